@@ -1,3 +1,5 @@
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <iostream>
 
@@ -7,17 +9,34 @@
 
 namespace fracref::cli {
 
+bool stderr_is_terminal() { return ::isatty(STDERR_FILENO) == 1; }
+
+namespace {
+const char* kFooter = R"(Exit codes: 0 success; 1 failure while running; 2 bad input or usage.
+Run 'fracref SUBCOMMAND --help' for the options of each subcommand.)";
+}
+
 int run(int argc, char** argv) {
-  CLI::App app{"fracref: physics-inspired adaptive fracture refinement"};
+  CLI::App app{"fracref: physics-inspired adaptive fracture refinement (Chen et al., SIGGRAPH 2014)",
+               "fracref"};
   app.set_version_flag("--version", std::string("fracref ") + kVersion);
+  app.footer(kFooter);
   app.require_subcommand(1);
+  Action action;
+  add_info_command(app, action);
+  add_refine_commands(app, action);
+  add_bench_command(app, action);
+  add_batch_command(app, action);
+  add_check_command(app, action);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    int code = app.exit(e);
-    return code == 0 ? kExitOk : kExitBadInput;
+    std::cerr << "fracref: " << e.what() << "\n";
+    return kExitBadInput;
   }
-  return kExitOk;
+  return action ? action() : kExitOk;
 }
 
 }  // namespace fracref::cli
