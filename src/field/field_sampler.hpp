@@ -1,0 +1,38 @@
+#pragma once
+// The sampled modified strength field ψ with its pyramid-averaged gradient, precomputed on the
+// base grid so that evaluating (ψ, ∇ψ) at a point is one trilinear fetch (DESIGN.md, Backends).
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "field/grid.hpp"
+
+namespace fracref {
+
+/// (ψ, ∂ψ/∂x, ∂ψ/∂y, ∂ψ/∂z) at the nodes of the base grid, x fastest.
+struct FieldGrid4 {
+  glm::uvec3 dims{0, 0, 0};
+  glm::dvec3 origin{0.0};
+  double cell = 1.0;
+  std::vector<glm::vec4> values;
+};
+
+/// Precomputes the paper's multi-resolution gradient (section 4.2) on the base grid: at every
+/// base node x, ∇ψ(x) = (1/L) Σ_l g_l(x), where g_l is the central difference, with step equal to
+/// level l's cell h_l, of the trilinear interpolation of level l:
+///   g_l(x)·e = (ψ_l(x + h_l e) − ψ_l(x − h_l e)) / (2 h_l),
+/// with points clamped into the level's box. ψ itself is level 0.
+/// \pre pyramid non-empty, level 0 dims all >= 2, levels as built by build_pyramid_cpu.
+FieldGrid4 precompute_field_gradient(const std::vector<Grid3>& pyramid);
+
+/// Trilinear interpolation of a scalar grid at world point p, p clamped into the grid's box.
+/// \pre dims all >= 1.
+double sample_trilinear(const Grid3& grid, const glm::dvec3& p);
+
+/// (ψ, ∇ψ) at world point p: trilinear interpolation of the four channels, p clamped into the
+/// grid's box. Float arithmetic in the same order as shaders/flow_common.h so that both
+/// backends agree: g = (p − origin) / cell; i = clamp(floor(g), 0, n − 2); t = g − i.
+/// \pre dims all >= 2.
+glm::vec4 sample_field(const FieldGrid4& field, const glm::vec3& p);
+
+}  // namespace fracref
