@@ -23,6 +23,7 @@
 // Positive indices may refer to vertices defined later in the file (they are resolved after the
 // whole file is read); negative indices are relative to the vertices defined so far (-1 = last).
 // When any face lies in a group, faces before the first `o`/`g` belong to group "default".
+// Line continuation with a trailing '\' is not supported (the backslash is a bad field).
 //
 // OFF: the first non-comment line is exactly `OFF` (COFF, NOFF, 4OFF, ... are errors naming the
 // variant), then `nv nf ne`, then nv lines of exactly 3 coordinates and nf lines `n i0 .. in-1`
