@@ -36,8 +36,8 @@ class Fbm final : public Material {
   Fbm(const FbmParams& params, const PerlinNoise& noise, const MaterialFrame& frame)
       : params_(params), noise_(noise), frame_(frame) {}
   double strength(glm::dvec3 p) const override {
-    return noise01(fbm(noise_, frame_.noise_coords(p), params_.octaves, params_.lacunarity,
-                       params_.gain));
+    return noise01(params_.contrast * fbm(noise_, frame_.noise_coords(p), params_.octaves,
+                                          params_.lacunarity, params_.gain));
   }
 
  private:
@@ -110,14 +110,13 @@ class Wood final : public Material {
         glm::dvec3(local.x, local.y, local.z / params_.elongation) / frame_.feature + frame_.offset;
     const double radial = lerp(params_.core_strength, params_.surface_strength,
                                std::pow(std::min(r, 1.0), params_.radial_exponent));
-    const double grain = noise01(fbm(noise_, q, params_.noise_octaves));
-    const double a_n = params_.noise_amplitude, a_r = params_.ring_amplitude;
-    double value = (1.0 - a_n - a_r) * radial + a_n * grain;
+    const double a_r = params_.ring_amplitude;
+    double value = (1.0 - a_r) * radial + params_.noise_amplitude * fbm(noise_, q, params_.noise_octaves);
     if (a_r > 0.0) {
       const double phase = params_.ring_count * r + params_.ring_wobble * noise_(q + kShiftA);
       value += a_r * (0.5 + 0.5 * std::cos(kTwoPi * phase));
     }
-    return value;
+    return clamp01(value);
   }
 
  private:
@@ -283,7 +282,11 @@ std::unique_ptr<Material> make_material(const FieldSpec& spec, const PerlinNoise
                                         const MaterialFrame& frame) {
   const std::string& t = spec.type;
   if (t == "constant") return std::make_unique<Constant>(spec.value);
-  if (t == "perlin") return std::make_unique<Fbm>(FbmParams{1, 2.0, 0.5}, noise, frame);
+  if (t == "perlin") {
+    FbmParams one_octave = spec.fbm;
+    one_octave.octaves = 1;
+    return std::make_unique<Fbm>(one_octave, noise, frame);
+  }
   if (t == "fbm") return std::make_unique<Fbm>(spec.fbm, noise, frame);
   if (t == "marble") return std::make_unique<Marble>(spec.marble, noise, frame);
   if (t == "wood" || t == "branch") return std::make_unique<Wood>(spec.wood, t == "wood", noise, frame);

@@ -56,8 +56,10 @@ class ParamCheck {
   std::string group_;
 };
 
-void check_fbm(const FbmParams& p) {
+void check_fbm(const FbmParams& p, bool octaves_used) {
   const ParamCheck c("fbm");
+  c.positive("contrast", p.contrast);
+  if (!octaves_used) return;
   c.octaves("octaves", p.octaves);
   c.positive("lacunarity", p.lacunarity);
   c.positive("gain", p.gain);
@@ -96,8 +98,6 @@ void check_wood(const WoodParams& p, bool rings) {
   c.octaves("noise_octaves", p.noise_octaves);
   if (!rings) return;
   c.unit("ring_amplitude", p.ring_amplitude);
-  c.require("ring_amplitude", p.noise_amplitude + p.ring_amplitude <= 1.0,
-            "<= 1 - noise_amplitude", p.ring_amplitude);
   c.positive("ring_count", p.ring_count);
   c.non_negative("ring_wobble", p.ring_wobble);
 }
@@ -183,7 +183,7 @@ MaterialFrame make_frame(const FieldSpec& spec, glm::dvec3 box_min, glm::dvec3 b
   f.diagonal = glm::length(box_max - box_min);
   if (!(f.diagonal > 0.0))
     throw InputError("field: the bounding box " + format_vec(box_min) + " is a single point");
-  f.feature = spec.scale * f.diagonal;
+  f.feature = effective_scale(spec) * f.diagonal;
   std::uint64_t state = spec.seed ^ 0x243F6A8885A308D3ULL;
   for (int a = 0; a < 3; ++a) f.offset[a] = double(splitmix64(state) >> 11) * 0x1.0p-53 * 256.0;
   return f;
@@ -197,6 +197,15 @@ const std::vector<std::string>& field_type_names() {
   return names;
 }
 
+double effective_scale(const FieldSpec& spec) {
+  if (spec.scale > 0.0) return spec.scale;
+  const std::string& t = spec.type;
+  if (t == "marble") return 0.2;
+  if (t == "wood" || t == "branch" || t == "inclusions") return 0.1;
+  if (t == "brick") return 0.05;
+  return 0.25;
+}
+
 void validate_field_spec(const FieldSpec& spec) {
   const auto& names = field_type_names();
   if (std::find(names.begin(), names.end(), spec.type) == names.end()) {
@@ -204,10 +213,10 @@ void validate_field_spec(const FieldSpec& spec) {
     for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
     throw InputError("field: unknown type '" + spec.type + "' (known: " + known + ")");
   }
-  ParamCheck("").positive("scale", spec.scale);
+  ParamCheck("").non_negative("scale", spec.scale);
   const std::string& t = spec.type;
   if (t == "constant") ParamCheck("").finite("value", spec.value);
-  if (t == "fbm") check_fbm(spec.fbm);
+  if (t == "fbm" || t == "perlin") check_fbm(spec.fbm, t == "fbm");
   if (t == "marble") check_marble(spec.marble);
   if (t == "wood" || t == "branch") check_wood(spec.wood, t == "wood");
   if (t == "brick") check_brick(spec.brick);

@@ -9,7 +9,9 @@
 // (`scale`, brick sizes, radii, bands, cube sizes) is a FRACTION OF THE DIAGONAL of the
 // object's bounding box (FieldSpec::object_min/max), so one spec works on any object size.
 // Noise is evaluated at q = (p - box centre) / (scale · diagonal) + o(seed), where o(seed) is a
-// seeded offset in [0, 256)^3: one noise lattice cell is `scale · diagonal` wide.
+// seeded offset in [0, 256)^3: one noise lattice cell is `scale · diagonal` wide. `scale` 0 (the
+// default) takes the type's own default (effective_scale()). Plain noise has a standard deviation
+// of about 0.27 and fBm of 3-5 octaves about 0.17; "noise" below is the seeded improved noise.
 //
 // Member names of the parameter structs are the intended keys of the scene file's `params`
 // object (the scene loader maps JSON to FieldSpec; nothing here parses JSON).
@@ -25,11 +27,12 @@
 
 namespace fracref {
 
-/// Octave parameters of the `fbm` type (plain fBm mapped to [0, 1]).
+/// Parameters of the `fbm` type (plain fBm mapped to [0, 1]); `perlin` uses only `contrast`.
 struct FbmParams {
   int octaves = 4;          ///< 1..16
   double lacunarity = 2.0;  ///< frequency ratio between octaves, > 0
   double gain = 0.5;        ///< amplitude ratio between octaves, > 0
+  double contrast = 1.0;    ///< ζ = clamp(0.5 + 0.5·contrast·fbm, 0, 1); 1 = plain mapping, > 0
 };
 
 /// `marble` (the paper's bunny). Stripes m = sin(2π(u + distortion·T(q))), with u the distance
@@ -49,7 +52,7 @@ struct MarbleParams {
   double white_min = 0.05, white_max = 0.4;  ///< soft white marble
   double blue_min = 0.6, blue_max = 1.0;     ///< hard blue grains
   double white_frequency = 1.0;   ///< low frequency, relative to 1/(scale·diagonal), > 0
-  double grain_frequency = 8.0;   ///< high frequency of the blue grains, > 0
+  double grain_frequency = 5.0;   ///< high frequency of the blue grains, > 0
 };
 
 /// `wood` and `branch` (the paper's tree branch): a cylinder about an axis, SOFT at the axis and
@@ -59,22 +62,26 @@ struct MarbleParams {
 ///   r = distance to the axis / R (clamped to [0, 1] for the profile),
 ///   radial = lerp(core_strength, surface_strength, r^radial_exponent),
 ///   ring = 0.5 + 0.5·cos(2π(ring_count·r + ring_wobble·noise)),
-///   ζ = (1 - noise_amplitude - ring_amplitude)·radial + ring_amplitude·ring
-///       + noise_amplitude·n01(fbm of the elongated q, noise_octaves).
-/// Range: within [(1-a_n-a_r)·min(core, surface), (1-a_n-a_r)·max(core, surface) + a_r + a_n]
-/// (a_r = 0 for branch), inside [0, 1] as validated: [0.075, 0.925] for branch and
-/// [0.045, 0.955] for wood with the defaults.
+///   ζ = clamp((1 - ring_amplitude)·radial + ring_amplitude·ring
+///       + noise_amplitude·fbm(elongated q, noise_octaves), 0, 1)     (fbm signed, std ≈ 0.17),
+/// with the elongated q = (p - axis_point) in an orthonormal frame (e1, e2, axis), its axial
+/// component divided by `elongation`, all over scale·diagonal, plus o(seed).
+/// Range: [max(0, (1-a_r)·min(core, surface) - a_n·1.0364),
+///         min(1, (1-a_r)·max(core, surface) + a_r + a_n·1.0364)] (a_r = 0 for branch);
+/// [0, 1] with the defaults (the clamp acts only on rare noise extremes).
 struct WoodParams {
   glm::dvec3 axis{0.0, 0.0, 1.0};          ///< direction of the cylinder axis; non-zero
   std::optional<glm::dvec3> axis_point;    ///< a point on the axis (scene units); default: the box centre
-  double radius = 0.0;  ///< cylinder radius (fraction of diagonal); 0 = the box's inscribed radius about the axis
-  double core_strength = 0.1;     ///< ζ profile at the axis, in [0, 1]
-  double surface_strength = 0.9;  ///< ζ profile at radius R and beyond, in [0, 1]
+  /// Cylinder radius R (fraction of the diagonal); 0 = the inscribed radius of the box's
+  /// projection across the axis (the radius itself for an axis-aligned cylinder's box).
+  double radius = 0.0;
+  double core_strength = 0.15;    ///< ζ profile at the axis, in [0, 1]
+  double surface_strength = 0.85; ///< ζ profile at radius R and beyond, in [0, 1]
   double radial_exponent = 1.0;   ///< shape of the profile, > 0
   double elongation = 8.0;        ///< noise stretch along the axis, >= 1
-  double noise_amplitude = 0.25;  ///< in [0, 1]
+  double noise_amplitude = 0.3;   ///< in [0, 1]
   int noise_octaves = 3;          ///< 1..16
-  double ring_amplitude = 0.3;    ///< wood only; noise_amplitude + ring_amplitude <= 1
+  double ring_amplitude = 0.3;    ///< wood only, in [0, 1]
   double ring_count = 8.0;        ///< rings between the axis and R, > 0
   double ring_wobble = 0.15;      ///< noise displacement of the rings, in ring widths, >= 0
 };
@@ -119,13 +126,15 @@ struct InclusionParams {
 
 /// What a scene's `field` asks for. `type` is one of field_type_names():
 ///  - "constant": ζ ≡ value (a test material for the flow).
-///  - "perlin": ζ = clamp(0.5 + 0.5·noise(q), 0, 1) in [0, 1].
-///  - "fbm": ζ = clamp(0.5 + 0.5·fbm(q, fbm.octaves, fbm.lacunarity, fbm.gain), 0, 1) in [0, 1].
+///  - "perlin": ζ = clamp(0.5 + 0.5·fbm.contrast·noise(q), 0, 1) in [0, 1].
+///  - "fbm": ζ = clamp(0.5 + 0.5·fbm.contrast·fbm(q, fbm.octaves, fbm.lacunarity, fbm.gain), 0, 1)
+///    in [0, 1]. With contrast 1 most values fall in [0.2, 0.8].
 ///  - "marble", "wood", "branch", "brick", "inclusions": see their parameter structs.
 struct FieldSpec {
   std::string type = "constant";
   std::uint64_t seed = 1;  ///< permutation of the noise, offset o(seed), cube placement
-  double scale = 0.25;     ///< noise feature size (one lattice cell), fraction of the diagonal, > 0
+  double scale = 0.0;      ///< noise feature size (one lattice cell), fraction of the diagonal,
+                           ///< >= 0; 0 = the type's default, see effective_scale()
   double value = 1.0;      ///< "constant" only; finite
   FbmParams fbm;
   MarbleParams marble;
@@ -141,6 +150,11 @@ struct FieldSpec {
 
 /// The known field types, in a fixed order (for error messages and the CLI).
 const std::vector<std::string>& field_type_names();
+
+/// spec.scale, or when it is 0 the type's default: perlin, fbm, constant 0.25; marble 0.2;
+/// wood, branch 0.1 (across the axis; along it, elongation times more); brick 0.05;
+/// inclusions 0.1. Unknown types: 0.25.
+double effective_scale(const FieldSpec& spec);
 
 /// Checks the type and every parameter the type uses.
 /// \throw InputError naming the parameter and the bad value, e.g.
