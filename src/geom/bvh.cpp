@@ -1,0 +1,256 @@
+#include "geom/bvh.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "geom/parallel.hpp"
+#include "util/error.hpp"
+
+namespace fracref {
+namespace {
+
+using glm::dvec3;
+
+struct BuildTask {
+  std::uint32_t node, begin, end;
+};
+
+Aabb union_of(const Bvh& bvh, std::uint32_t begin, std::uint32_t end) {
+  Aabb box;
+  for (std::uint32_t k = begin; k < end; ++k) box.expand(bvh.item_boxes[bvh.items[k]]);
+  return box;
+}
+
+int longest_axis(const Aabb& box) {
+  const dvec3 ext = box.hi - box.lo;
+  return ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+}
+
+// Splits the items of a node at the median of their box centres along the longest axis of the
+// centre bounds; ties by id keep the split deterministic.
+std::uint32_t median_split(Bvh& bvh, const std::vector<dvec3>& centres, std::uint32_t begin, std::uint32_t end) {
+  Aabb bounds;
+  for (std::uint32_t k = begin; k < end; ++k) bounds.expand(centres[bvh.items[k]]);
+  const int axis = longest_axis(bounds);
+  const std::uint32_t mid = begin + (end - begin) / 2;
+  std::nth_element(bvh.items.begin() + begin, bvh.items.begin() + mid, bvh.items.begin() + end,
+                   [&](std::uint32_t a, std::uint32_t b) {
+                     const double ca = centres[a][axis], cb = centres[b][axis];
+                     return ca < cb || (ca == cb && a < b);
+                   });
+  return mid;
+}
+
+double box_distance2(const Aabb& box, const dvec3& p) {
+  const dvec3 d = glm::max(glm::max(box.lo - p, p - box.hi), dvec3(0.0));
+  return glm::dot(d, d);
+}
+
+ClosestPoint closest_on_segment(const dvec3& p, const dvec3& a, const dvec3& b, int ia, int ib) {
+  const dvec3 ab = b - a;
+  const double len2 = glm::dot(ab, ab);
+  double s = len2 > 0.0 ? glm::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+  ClosestPoint c;
+  c.point = a + s * ab;
+  c.barycentric[ia] = 1.0 - s;
+  c.barycentric[ib] = s;
+  c.squared_distance = glm::dot(p - c.point, p - c.point);
+  return c;
+}
+
+ClosestPoint result(const dvec3& p, const dvec3& point, const dvec3& bary) {
+  ClosestPoint c;
+  c.point = point;
+  c.barycentric = bary;
+  c.squared_distance = glm::dot(p - point, p - point);
+  return c;
+}
+
+}  // namespace
+
+// Ericson, Real-Time Collision Detection, 5.1.5.
+ClosestPoint closest_point_on_triangle(const dvec3& p, const dvec3& a, const dvec3& b, const dvec3& c) {
+  const dvec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return result(p, a, {1, 0, 0});
+  const dvec3 bp = p - b;
+  const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return result(p, b, {0, 1, 0});
+  const dvec3 cp = p - c;
+  const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return result(p, c, {0, 0, 1});
+  const double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
+  const double sum = va + vb + vc;
+  if (!(sum > 0.0) || !std::isfinite(sum)) {
+    ClosestPoint best = closest_on_segment(p, a, b, 0, 1);
+    for (const ClosestPoint& e : {closest_on_segment(p, b, c, 1, 2), closest_on_segment(p, c, a, 2, 0)})
+      if (e.squared_distance < best.squared_distance) best = e;
+    return best;
+  }
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+    const double v = d1 / (d1 - d3);
+    return result(p, a + v * ab, {1 - v, v, 0});
+  }
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+    const double w = d2 / (d2 - d6);
+    return result(p, a + w * ac, {1 - w, 0, w});
+  }
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return result(p, b + w * (c - b), {0, 1 - w, w});
+  }
+  const double v = vb / sum, w = vc / sum;
+  return result(p, a + ab * v + ac * w, {1 - v - w, v, w});
+}
+
+Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options) {
+  Bvh bvh;
+  bvh.item_boxes = boxes;
+  const auto n = static_cast<std::uint32_t>(boxes.size());
+  if (n == 0) return bvh;
+  const std::uint32_t leaf = std::max<std::uint32_t>(1, options.leaf_size);
+  bvh.items.resize(n);
+  std::iota(bvh.items.begin(), bvh.items.end(), 0u);
+  std::vector<dvec3> centres(n);
+  for (std::uint32_t i = 0; i < n; ++i) centres[i] = boxes[i].lo + boxes[i].hi;
+  bvh.nodes.reserve(2 * (n / leaf + 1));
+  bvh.nodes.emplace_back();
+  std::vector<BuildTask> stack{{0, 0, n}};
+  while (!stack.empty()) {
+    const BuildTask task = stack.back();
+    stack.pop_back();
+    bvh.nodes[task.node].box = union_of(bvh, task.begin, task.end);
+    if (task.end - task.begin <= leaf) {
+      bvh.nodes[task.node].first = task.begin;
+      bvh.nodes[task.node].count = task.end - task.begin;
+      continue;
+    }
+    const std::uint32_t mid = median_split(bvh, centres, task.begin, task.end);
+    const auto left = static_cast<std::uint32_t>(bvh.nodes.size());
+    bvh.nodes[task.node].first = left;
+    bvh.nodes[task.node].count = 0;
+    bvh.nodes.emplace_back();
+    bvh.nodes.emplace_back();
+    stack.push_back({left + 1, mid, task.end});
+    stack.push_back({left, task.begin, mid});
+  }
+  return bvh;
+}
+
+Bvh build_bvh(const std::vector<dvec3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+              const BvhOptions& options) {
+  for (std::size_t v = 0; v < positions.size(); ++v)
+    if (!std::isfinite(positions[v].x) || !std::isfinite(positions[v].y) || !std::isfinite(positions[v].z))
+      throw InputError("vertex " + std::to_string(v) + ": coordinate is not finite");
+  std::vector<Aabb> boxes(triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    for (std::uint32_t v : triangles[t]) {
+      if (v >= positions.size())
+        throw InputError("triangle " + std::to_string(t) + ": vertex index " + std::to_string(v) +
+                         " out of range (" + std::to_string(positions.size()) + " vertices)");
+      boxes[t].expand(positions[v]);
+    }
+  Bvh bvh = build_bvh(boxes, options);
+  bvh.positions = positions;
+  bvh.triangles = triangles;
+  return bvh;
+}
+
+void query_box(const Bvh& bvh, const Aabb& box, std::vector<std::uint32_t>& out) {
+  if (bvh.nodes.empty()) return;
+  std::uint32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const BvhNode& node = bvh.nodes[stack[--top]];
+    if (!node.box.overlaps(box)) continue;
+    if (node.count > 0) {
+      for (std::uint32_t k = node.first; k < node.first + node.count; ++k)
+        if (bvh.item_boxes[bvh.items[k]].overlaps(box)) out.push_back(bvh.items[k]);
+      continue;
+    }
+    stack[top++] = node.first + 1;
+    stack[top++] = node.first;
+  }
+}
+
+ClosestPoint closest_point(const Bvh& bvh, const dvec3& query) {
+  ClosestPoint best;
+  if (bvh.nodes.empty() || bvh.triangles.empty()) return best;
+  struct Entry {
+    std::uint32_t node;
+    double d2;
+  };
+  Entry stack[128];
+  int top = 0;
+  stack[top++] = {0, box_distance2(bvh.nodes[0].box, query)};
+  while (top > 0) {
+    const Entry e = stack[--top];
+    if (e.d2 >= best.squared_distance) continue;
+    const BvhNode& node = bvh.nodes[e.node];
+    if (node.count > 0) {
+      for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+        const std::uint32_t t = bvh.items[k];
+        const auto& tri = bvh.triangles[t];
+        ClosestPoint c = closest_point_on_triangle(query, bvh.positions[tri[0]], bvh.positions[tri[1]], bvh.positions[tri[2]]);
+        if (c.squared_distance < best.squared_distance) {
+          c.triangle = t;
+          best = c;
+        }
+      }
+      continue;
+    }
+    const Entry l{node.first, box_distance2(bvh.nodes[node.first].box, query)};
+    const Entry r{node.first + 1, box_distance2(bvh.nodes[node.first + 1].box, query)};
+    // Nearer child on top of the stack, so it is searched first and prunes the other.
+    if (l.d2 <= r.d2) {
+      stack[top++] = r;
+      stack[top++] = l;
+    } else {
+      stack[top++] = l;
+      stack[top++] = r;
+    }
+  }
+  return best;
+}
+
+std::vector<std::pair<std::uint32_t, std::uint32_t>> overlapping_pairs(const Bvh& a, const Bvh& b, int threads) {
+  const std::size_t n = a.item_boxes.size();
+  const std::size_t chunks = geom_detail::chunk_count(n);
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> parts(chunks);
+  geom_detail::parallel_chunks(n, chunks, threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    std::vector<std::uint32_t> hits;
+    for (std::size_t i = begin; i < end; ++i) {
+      hits.clear();
+      query_box(b, a.item_boxes[i], hits);
+      std::sort(hits.begin(), hits.end());
+      for (std::uint32_t j : hits) parts[c].emplace_back(static_cast<std::uint32_t>(i), j);
+    }
+  });
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+  for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());
+  return out;
+}
+
+std::vector<std::pair<std::uint32_t, std::uint32_t>> self_overlapping_pairs(const Bvh& bvh, int threads) {
+  const std::size_t n = bvh.item_boxes.size();
+  const std::size_t chunks = geom_detail::chunk_count(n);
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> parts(chunks);
+  geom_detail::parallel_chunks(n, chunks, threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    std::vector<std::uint32_t> hits;
+    for (std::size_t i = begin; i < end; ++i) {
+      hits.clear();
+      query_box(bvh, bvh.item_boxes[i], hits);
+      std::sort(hits.begin(), hits.end());
+      for (std::uint32_t j : hits)
+        if (j > i) parts[c].emplace_back(static_cast<std::uint32_t>(i), j);
+    }
+  });
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+  for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());
+  return out;
+}
+
+}  // namespace fracref

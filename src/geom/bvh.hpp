@@ -1,0 +1,110 @@
+#pragma once
+// An axis-aligned bounding-box tree on flat arrays: broad phase for intersection and collision
+// tests, closest point on a triangle mesh (boundary projection onto the exterior B), and
+// point-in-closed-mesh.
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace fracref {
+
+/// A closed axis-aligned box [lo, hi]. The default box is empty (lo > hi).
+struct Aabb {
+  glm::dvec3 lo{std::numeric_limits<double>::infinity()};
+  glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
+
+  void expand(const glm::dvec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  void expand(const Aabb& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
+  /// Closed test: boxes that touch overlap.
+  bool overlaps(const Aabb& b) const {
+    return lo.x <= b.hi.x && b.lo.x <= hi.x && lo.y <= b.hi.y && b.lo.y <= hi.y && lo.z <= b.hi.z && b.lo.z <= hi.z;
+  }
+};
+
+/// One node of the tree. A leaf holds `count` > 0 items: Bvh::items[first .. first+count).
+/// An inner node has count == 0 and children `first` and `first + 1`.
+struct BvhNode {
+  Aabb box;
+  std::uint32_t first = 0;
+  std::uint32_t count = 0;
+};
+
+/// The tree. nodes[0] is the root (no nodes when built from nothing). The triangle overload of
+/// build_bvh also keeps the mesh, which closest_point and point_in_mesh read.
+struct Bvh {
+  std::vector<BvhNode> nodes;
+  std::vector<std::uint32_t> items;  ///< item ids in leaf order
+  std::vector<Aabb> item_boxes;      ///< box of each item, indexed by item id
+  std::vector<glm::dvec3> positions;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+struct BvhOptions {
+  std::uint32_t leaf_size = 4;  ///< most items in a leaf (>= 1)
+};
+
+/// Builds the tree over arbitrary boxes (item id = index in `boxes`) by recursive median
+/// split of the box centres along the longest axis of their bounds. Deterministic: ties are
+/// broken by item id. O(n log n). \pre finite boxes.
+Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options = {});
+
+/// Builds the tree over the triangles of a mesh (item id = triangle index) and keeps a copy of
+/// the mesh. \throw InputError when a triangle has a vertex index out of range or a vertex a
+/// non-finite coordinate (names it).
+Bvh build_bvh(const std::vector<glm::dvec3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+              const BvhOptions& options = {});
+
+/// Appends to `out` the ids of the items whose boxes overlap `box` (closed), in leaf order.
+void query_box(const Bvh& bvh, const Aabb& box, std::vector<std::uint32_t>& out);
+
+/// The closest point of a triangle mesh to a query point.
+struct ClosestPoint {
+  glm::dvec3 point{0.0};
+  std::uint32_t triangle = 0;
+  glm::dvec3 barycentric{0.0};  ///< weights of the triangle's corners 0, 1, 2 at `point`
+  double squared_distance = std::numeric_limits<double>::infinity();
+};
+
+/// Closest point of triangle (a, b, c) to p (Ericson's Voronoi-region method; the nearest of
+/// the three edges when the triangle has no area). `triangle` is left 0.
+ClosestPoint closest_point_on_triangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
+                                       const glm::dvec3& c);
+
+/// Closest point on the mesh kept by `bvh` (built by the triangle overload) to `query`.
+/// Floating-point accurate (not exact); among equally close triangles the traversal order
+/// decides, deterministically. \pre the mesh has at least one triangle.
+ClosestPoint closest_point(const Bvh& bvh, const glm::dvec3& query);
+
+/// Pairs (i, j) of an item i of `a` and an item j of `b` whose boxes overlap, sorted.
+/// Runs on `threads` threads; the result does not depend on their number.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> overlapping_pairs(const Bvh& a, const Bvh& b, int threads = 2);
+
+/// Pairs (i, j), i < j, of items of one tree whose boxes overlap, sorted.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> self_overlapping_pairs(const Bvh& bvh, int threads = 2);
+
+/// Whether `query` lies inside the closed mesh kept by `bvh` (points on the surface count as
+/// inside). Method: parity of the crossings of a segment from the query to a point far outside
+/// the mesh's box, each crossing classified with the exact orient3d. A segment that touches an
+/// edge, a vertex or lies in a face's plane across the face is discarded and the next of a fixed
+/// list of directions tried; if all of them are degenerate (practically never), the generalized
+/// winding number (sum of solid angles, rounded) decides. Exact for a closed (watertight,
+/// consistently connected) mesh whenever a non-degenerate direction exists.
+/// \pre the mesh is closed; otherwise the answer is that of some ray's parity.
+bool point_in_mesh(const Bvh& bvh, const glm::dvec3& query);
+
+/// Generalized winding number of the mesh kept by `bvh` around `query` (Jacobson et al. 2013):
+/// the signed solid angle sum / 4 pi, about 1 inside a closed outward-oriented mesh, 0 outside.
+/// O(triangles); not exact.
+double winding_number(const Bvh& bvh, const glm::dvec3& query);
+
+}  // namespace fracref

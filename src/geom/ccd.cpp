@@ -1,0 +1,228 @@
+// The per-query narrow phase of ccd.hpp: inclusion-based bisection of the (t, u, v) box.
+#include "geom/ccd.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "geom/bvh.hpp"
+
+namespace fracref {
+namespace {
+
+using glm::dvec3;
+
+constexpr double kU = 0x1p-53;  // unit roundoff
+
+struct ParamBox {
+  double t[2], u[2], v[2];
+};
+
+struct Direction {
+  dvec3 n{0.0};
+  dvec3 abs_n{0.0};
+  double base = 0.0;  // sum |n_i| err_i + min_distance * |n|, rounded up
+};
+
+struct Query {
+  bool vertex_triangle = true;
+  dvec3 x0[4], x1[4];   // vertex-triangle: p, a, b, c; edge-edge: a, b, c, d
+  dvec3 err{0.0};       // bound on the rounding error of one corner value, per coordinate
+  dvec3 threshold{0.0}; // err + min_distance, rounded up
+  Direction dirs[2];
+  int num_dirs = 0;
+  double tolerance = 0.0;
+};
+
+// F at the 8 corners of the box, index (it << 2) | (iu << 1) | iv. The evaluation order is the
+// one the error bound in make_query was derived for: do not reorder.
+void corner_values(const Query& q, const ParamBox& b, dvec3 f[8]) {
+  for (int it = 0; it < 2; ++it) {
+    const double t = b.t[it];
+    dvec3 x[4];
+    for (int k = 0; k < 4; ++k) x[k] = q.x0[k] + t * (q.x1[k] - q.x0[k]);
+    for (int iu = 0; iu < 2; ++iu)
+      for (int iv = 0; iv < 2; ++iv) {
+        const double u = b.u[iu], v = b.v[iv];
+        dvec3& out = f[(it << 2) | (iu << 1) | iv];
+        if (q.vertex_triangle)
+          out = x[0] - ((x[1] + u * (x[2] - x[1])) + v * (x[3] - x[1]));
+        else
+          out = (x[0] + u * (x[1] - x[0])) - (x[2] + v * (x[3] - x[2]));
+      }
+  }
+}
+
+// Whether n.F keeps one strict sign beyond min_distance*|n| over the box: for every corner,
+// |fl(n.F~) - n.F| <= sum |n_i| err_i + gamma_3 sum |n_i| |F~_i| (gamma_3 < 4u), all rounded up.
+bool separated_along(const Direction& d, const dvec3 f[8]) {
+  bool positive = true, negative = true;
+  for (int k = 0; k < 8 && (positive || negative); ++k) {
+    const double g = glm::dot(d.n, f[k]);
+    const double bound = (d.base + 4.0 * kU * glm::dot(d.abs_n, glm::abs(f[k]))) * (1.0 + 32.0 * kU);
+    positive = positive && g > bound;
+    negative = negative && g < -bound;
+  }
+  return positive || negative;
+}
+
+bool excluded(const Query& q, const dvec3 f[8], dvec3& lo, dvec3& hi) {
+  lo = hi = f[0];
+  for (int k = 1; k < 8; ++k) {
+    lo = glm::min(lo, f[k]);
+    hi = glm::max(hi, f[k]);
+  }
+  for (int a = 0; a < 3; ++a)
+    if (lo[a] > q.threshold[a] || hi[a] < -q.threshold[a]) return true;
+  for (int k = 0; k < q.num_dirs; ++k)
+    if (separated_along(q.dirs[k], f)) return true;
+  return false;
+}
+
+bool splittable(const double iv[2]) {
+  const double mid = iv[0] + 0.5 * (iv[1] - iv[0]);
+  return iv[0] < mid && mid < iv[1];
+}
+
+// The dimension whose extent changes F the most (a heuristic: any choice is correct), or -1
+// when no dimension can be split any more.
+int split_dimension(const ParamBox& b, const dvec3 f[8]) {
+  double width[3] = {0.0, 0.0, 0.0};
+  for (int k = 0; k < 8; ++k)
+    for (int dim = 0; dim < 3; ++dim) {
+      const int bit = 1 << (2 - dim);
+      if (k & bit) continue;
+      const dvec3 diff = glm::abs(f[k | bit] - f[k]);
+      width[dim] = std::max(width[dim], std::max(diff.x, std::max(diff.y, diff.z)));
+    }
+  const bool can[3] = {splittable(b.t), splittable(b.u), splittable(b.v)};
+  int best = -1;
+  for (int dim = 0; dim < 3; ++dim)
+    if (can[dim] && (best < 0 || width[dim] > width[best])) best = dim;
+  return best;
+}
+
+void split(const ParamBox& b, int dim, ParamBox& first, ParamBox& second) {
+  first = second = b;
+  double* lo_half = dim == 0 ? first.t : (dim == 1 ? first.u : first.v);
+  double* hi_half = dim == 0 ? second.t : (dim == 1 ? second.u : second.v);
+  // Any split point inside the interval gives two halves covering it.
+  const double mid = lo_half[0] + 0.5 * (lo_half[1] - lo_half[0]);
+  lo_half[1] = mid;
+  hi_half[0] = mid;
+}
+
+// Ericson, Real-Time Collision Detection 5.1.9: closest points of segments p1q1 and p2q2,
+// returned as their difference (only a direction for the separation test; need not be exact).
+dvec3 segment_segment_difference(const dvec3& p1, const dvec3& q1, const dvec3& p2, const dvec3& q2) {
+  const dvec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = glm::dot(d1, d1), e = glm::dot(d2, d2), f = glm::dot(d2, r);
+  double s = 0.0, t = 0.0;
+  if (a > 0.0 && e > 0.0) {
+    const double b = glm::dot(d1, d2), c = glm::dot(d1, r), denom = a * e - b * b;
+    s = denom > 0.0 ? glm::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+    t = (b * s + f) / e;
+    if (t < 0.0) {
+      t = 0.0;
+      s = glm::clamp(-c / a, 0.0, 1.0);
+    } else if (t > 1.0) {
+      t = 1.0;
+      s = glm::clamp((b - c) / a, 0.0, 1.0);
+    }
+  } else if (e > 0.0) {
+    t = glm::clamp(f / e, 0.0, 1.0);
+  } else if (a > 0.0) {
+    s = glm::clamp(-glm::dot(d1, r) / a, 0.0, 1.0);
+  }
+  return (p1 + s * d1) - (p2 + t * d2);
+}
+
+dvec3 closest_difference(const Query& q, const dvec3 x[4]) {
+  if (q.vertex_triangle) return x[0] - closest_point_on_triangle(x[0], x[1], x[2], x[3]).point;
+  return segment_segment_difference(x[0], x[1], x[2], x[3]);
+}
+
+void add_direction(Query& q, const dvec3& n, double min_distance) {
+  if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z) || n == dvec3(0.0)) return;
+  Direction& d = q.dirs[q.num_dirs++];
+  d.n = n;
+  d.abs_n = glm::abs(n);
+  const double norm = std::sqrt(glm::dot(n, n)) * (1.0 + 8.0 * kU);
+  d.base = (glm::dot(d.abs_n, q.err) + min_distance * norm) * (1.0 + 8.0 * kU);
+}
+
+Query make_query(bool vertex_triangle, const dvec3 x0[4], const dvec3 x1[4], const CcdOptions& options) {
+  Query q;
+  q.vertex_triangle = vertex_triangle;
+  dvec3 m(0.0);
+  for (int k = 0; k < 4; ++k) {
+    q.x0[k] = x0[k];
+    q.x1[k] = x1[k];
+    m = glm::max(m, glm::max(glm::abs(x0[k]), glm::abs(x1[k])));
+  }
+  // corner_values performs at most 8 rounding steps on any path, and its absolute-value
+  // evaluation is at most 18 M for parameters in [0, 1]: error <= gamma_8 * 18 M < 145 u M.
+  // 162 u M leaves room for rounding in this line; 1e-300 covers underflow.
+  q.err = 162.0 * kU * m + dvec3(1e-300);
+  const double delta = std::max(0.0, options.min_distance);
+  q.threshold = (q.err + dvec3(delta)) * (1.0 + 4.0 * kU);
+  q.tolerance = options.tolerance;
+  add_direction(q, closest_difference(q, x0), delta);
+  add_direction(q, closest_difference(q, x1), delta);
+  return q;
+}
+
+bool solve(const Query& q, const CcdOptions& options, CcdStats* stats) {
+  thread_local std::vector<ParamBox> stack;
+  stack.clear();
+  stack.push_back({{0.0, 1.0}, {0.0, 1.0}, {0.0, 1.0}});
+  int boxes = 0;
+  bool collision = false, cap = false;
+  while (!stack.empty()) {
+    if (boxes >= options.max_iterations) {
+      collision = cap = true;
+      break;
+    }
+    ++boxes;
+    const ParamBox b = stack.back();
+    stack.pop_back();
+    // Outside the triangle u + v <= 1 (fl is monotone, so fl(u+v) > 1 implies u+v > 1).
+    if (q.vertex_triangle && b.u[0] + b.v[0] > 1.0) continue;
+    dvec3 f[8], lo, hi;
+    corner_values(q, b, f);
+    if (excluded(q, f, lo, hi)) continue;
+    const dvec3 w = hi - lo;
+    if (w.x <= q.tolerance && w.y <= q.tolerance && w.z <= q.tolerance) {
+      collision = true;
+      break;
+    }
+    const int dim = split_dimension(b, f);
+    if (dim < 0) {
+      collision = true;
+      break;
+    }
+    ParamBox first, second;
+    split(b, dim, first, second);
+    stack.push_back(second);
+    stack.push_back(first);
+  }
+  if (stats) *stats = {boxes, cap};
+  return collision;
+}
+
+}  // namespace
+
+bool ccd_vertex_triangle(const dvec3& p0, const dvec3& a0, const dvec3& b0, const dvec3& c0, const dvec3& p1,
+                         const dvec3& a1, const dvec3& b1, const dvec3& c1, const CcdOptions& options,
+                         CcdStats* stats) {
+  const dvec3 x0[4] = {p0, a0, b0, c0}, x1[4] = {p1, a1, b1, c1};
+  return solve(make_query(true, x0, x1, options), options, stats);
+}
+
+bool ccd_edge_edge(const dvec3& a0, const dvec3& b0, const dvec3& c0, const dvec3& d0, const dvec3& a1,
+                   const dvec3& b1, const dvec3& c1, const dvec3& d1, const CcdOptions& options, CcdStats* stats) {
+  const dvec3 x0[4] = {a0, b0, c0, d0}, x1[4] = {a1, b1, c1, d1};
+  return solve(make_query(false, x0, x1, options), options, stats);
+}
+
+}  // namespace fracref

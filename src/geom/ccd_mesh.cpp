@@ -1,0 +1,213 @@
+// The mesh-level API of ccd.hpp: swept-box broad phase, then the exact-bounded narrow phase.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "geom/bvh.hpp"
+#include "geom/ccd.hpp"
+#include "geom/parallel.hpp"
+#include "util/error.hpp"
+
+namespace fracref {
+namespace {
+
+using glm::dvec3;
+using Tris = std::vector<std::array<std::uint32_t, 3>>;
+using Edge = std::array<std::uint32_t, 2>;
+
+void check_positions(const std::vector<dvec3>& x, const char* what) {
+  for (std::size_t v = 0; v < x.size(); ++v)
+    if (!std::isfinite(x[v].x) || !std::isfinite(x[v].y) || !std::isfinite(x[v].z))
+      throw InputError(std::string(what) + " vertex " + std::to_string(v) + ": coordinate is not finite");
+}
+
+void check_triangles(const Tris& tris, std::size_t n, const char* what) {
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    for (std::uint32_t v : tris[t])
+      if (v >= n)
+        throw InputError(std::string(what) + " triangle " + std::to_string(t) + ": vertex index " + std::to_string(v) +
+                         " out of range (" + std::to_string(n) + " vertices)");
+}
+
+std::vector<Edge> unique_edges(const Tris& tris) {
+  std::vector<Edge> edges;
+  edges.reserve(tris.size() * 3);
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+      if (a != b) edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
+// Box of the given vertices over the step, grown by `grow` rounded outward.
+template <std::size_t N>
+Aabb swept_box(const std::vector<dvec3>& x0, const std::vector<dvec3>& x1, const std::array<std::uint32_t, N>& ids,
+               double grow) {
+  Aabb box;
+  for (std::uint32_t v : ids) {
+    box.expand(x0[v]);
+    box.expand(x1[v]);
+  }
+  if (grow > 0.0) {
+    const double inf = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+      box.lo[a] = std::nextafter(box.lo[a] - grow, -inf);
+      box.hi[a] = std::nextafter(box.hi[a] + grow, inf);
+    }
+  }
+  return box;
+}
+
+template <std::size_t N>
+std::vector<Aabb> swept_boxes(const std::vector<dvec3>& x0, const std::vector<dvec3>& x1,
+                              const std::vector<std::array<std::uint32_t, N>>& elements, double grow) {
+  std::vector<Aabb> boxes(elements.size());
+  for (std::size_t k = 0; k < elements.size(); ++k) boxes[k] = swept_box(x0, x1, elements[k], grow);
+  return boxes;
+}
+
+bool shares_vertex(const Edge& e, const Edge& f) { return e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1]; }
+
+// Runs `test(k, hits, out)` for every query element k in parallel chunks, with the candidates
+// of its box in `tree`; concatenates and sorts the pairs.
+template <class Test>
+std::vector<CcdPair> sweep(std::size_t count, const std::vector<Aabb>& query_boxes, const Bvh& tree, int threads,
+                           Test test) {
+  const std::size_t chunks = geom_detail::chunk_count(count, 128);
+  std::vector<std::vector<CcdPair>> parts(chunks);
+  geom_detail::parallel_chunks(count, chunks, threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    std::vector<std::uint32_t> hits;
+    for (std::size_t k = begin; k < end; ++k) {
+      hits.clear();
+      query_box(tree, query_boxes[k], hits);
+      std::sort(hits.begin(), hits.end());
+      test(static_cast<std::uint32_t>(k), hits, parts[c]);
+    }
+  });
+  std::vector<CcdPair> out;
+  for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());
+  return out;
+}
+
+std::vector<std::array<std::uint32_t, 1>> used_vertices(const Tris& tris, std::size_t n) {
+  std::vector<char> used(n, 0);
+  for (const auto& t : tris)
+    for (std::uint32_t v : t) used[v] = 1;
+  std::vector<std::array<std::uint32_t, 1>> out;
+  for (std::size_t v = 0; v < n; ++v)
+    if (used[v]) out.push_back({static_cast<std::uint32_t>(v)});
+  return out;
+}
+
+CcdPair vertex_pair(CcdKind kind, std::uint32_t v, const std::array<std::uint32_t, 3>& tri, std::uint32_t t) {
+  return {kind, {v, tri[0], tri[1], tri[2]}, t};
+}
+
+}  // namespace
+
+std::vector<CcdPair> find_step_collisions(const std::vector<dvec3>& x0, const std::vector<dvec3>& x1,
+                                          const Tris& triangles, const StepCcdOptions& options) {
+  if (x0.size() != x1.size())
+    throw InputError("step collisions: " + std::to_string(x0.size()) + " start positions but " +
+                     std::to_string(x1.size()) + " end positions");
+  check_positions(x0, "start");
+  check_positions(x1, "end");
+  check_triangles(triangles, x0.size(), "mesh");
+  const CcdOptions& ccd = options.ccd;
+  const double grow = std::max(0.0, ccd.min_distance);
+  const auto vertices = used_vertices(triangles, x0.size());
+  const Bvh tri_tree = build_bvh(swept_boxes(x0, x1, triangles, grow));
+  auto out = sweep(vertices.size(), swept_boxes(x0, x1, vertices, 0.0), tri_tree, options.threads,
+                   [&](std::uint32_t k, const std::vector<std::uint32_t>& hits, std::vector<CcdPair>& found) {
+                     const std::uint32_t v = vertices[k][0];
+                     for (std::uint32_t t : hits) {
+                       const auto& tri = triangles[t];
+                       if (tri[0] == v || tri[1] == v || tri[2] == v) continue;
+                       if (ccd_vertex_triangle(x0[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], x1[v], x1[tri[0]],
+                                               x1[tri[1]], x1[tri[2]], ccd))
+                         found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
+                     }
+                   });
+  const auto edges = unique_edges(triangles);
+  const Bvh edge_tree = build_bvh(swept_boxes(x0, x1, edges, grow));
+  auto ee = sweep(edges.size(), swept_boxes(x0, x1, edges, 0.0), edge_tree, options.threads,
+                  [&](std::uint32_t k, const std::vector<std::uint32_t>& hits, std::vector<CcdPair>& found) {
+                    const Edge& e = edges[k];
+                    for (std::uint32_t j : hits) {
+                      const Edge& f = edges[j];
+                      if (j <= k || shares_vertex(e, f)) continue;
+                      if (ccd_edge_edge(x0[e[0]], x0[e[1]], x0[f[0]], x0[f[1]], x1[e[0]], x1[e[1]], x1[f[0]],
+                                        x1[f[1]], ccd))
+                        found.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});
+                    }
+                  });
+  out.insert(out.end(), ee.begin(), ee.end());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& x0, const std::vector<dvec3>& x1,
+                                                      const Tris& triangles, const std::vector<dvec3>& static_positions,
+                                                      const Tris& static_triangles, const StepCcdOptions& options) {
+  if (x0.size() != x1.size())
+    throw InputError("step collisions: " + std::to_string(x0.size()) + " start positions but " +
+                     std::to_string(x1.size()) + " end positions");
+  check_positions(x0, "start");
+  check_positions(x1, "end");
+  check_positions(static_positions, "static");
+  check_triangles(triangles, x0.size(), "moving");
+  check_triangles(static_triangles, static_positions.size(), "static");
+  const CcdOptions& ccd = options.ccd;
+  const double grow = std::max(0.0, ccd.min_distance);
+  const auto& s = static_positions;
+  // Moving vertices against static triangles.
+  const auto moving_vertices = used_vertices(triangles, x0.size());
+  const Bvh static_tris = build_bvh(swept_boxes(s, s, static_triangles, grow));
+  auto out = sweep(moving_vertices.size(), swept_boxes(x0, x1, moving_vertices, 0.0), static_tris, options.threads,
+                   [&](std::uint32_t k, const std::vector<std::uint32_t>& hits, std::vector<CcdPair>& found) {
+                     const std::uint32_t v = moving_vertices[k][0];
+                     for (std::uint32_t t : hits) {
+                       const auto& tri = static_triangles[t];
+                       if (ccd_vertex_triangle(x0[v], s[tri[0]], s[tri[1]], s[tri[2]], x1[v], s[tri[0]], s[tri[1]],
+                                               s[tri[2]], ccd))
+                         found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
+                     }
+                   });
+  // Static vertices against moving triangles.
+  const auto static_vertices = used_vertices(static_triangles, s.size());
+  const Bvh moving_tris = build_bvh(swept_boxes(x0, x1, triangles, grow));
+  auto tv = sweep(static_vertices.size(), swept_boxes(s, s, static_vertices, 0.0), moving_tris, options.threads,
+                  [&](std::uint32_t k, const std::vector<std::uint32_t>& hits, std::vector<CcdPair>& found) {
+                    const std::uint32_t v = static_vertices[k][0];
+                    for (std::uint32_t t : hits) {
+                      const auto& tri = triangles[t];
+                      if (ccd_vertex_triangle(s[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], s[v], x1[tri[0]], x1[tri[1]],
+                                              x1[tri[2]], ccd))
+                        found.push_back(vertex_pair(CcdKind::triangle_vertex, v, tri, t));
+                    }
+                  });
+  // Moving edges against static edges.
+  const auto edges = unique_edges(triangles);
+  const auto static_edges = unique_edges(static_triangles);
+  const Bvh static_edge_tree = build_bvh(swept_boxes(s, s, static_edges, grow));
+  auto ee = sweep(edges.size(), swept_boxes(x0, x1, edges, 0.0), static_edge_tree, options.threads,
+                  [&](std::uint32_t k, const std::vector<std::uint32_t>& hits, std::vector<CcdPair>& found) {
+                    const Edge& e = edges[k];
+                    for (std::uint32_t j : hits) {
+                      const Edge& f = static_edges[j];
+                      if (ccd_edge_edge(x0[e[0]], x0[e[1]], s[f[0]], s[f[1]], x1[e[0]], x1[e[1]], s[f[0]], s[f[1]],
+                                        ccd))
+                        found.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});
+                    }
+                  });
+  out.insert(out.end(), tv.begin(), tv.end());
+  out.insert(out.end(), ee.begin(), ee.end());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace fracref

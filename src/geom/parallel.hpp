@@ -1,0 +1,48 @@
+#pragma once
+// Internal to the geom room: run fixed chunks of an index range on a few threads. Chunk
+// boundaries depend only on n, so per-chunk results concatenated in chunk order are the same
+// for any thread count.
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
+#include <exception>
+#include <thread>
+#include <vector>
+
+namespace fracref::geom_detail {
+
+/// Number of chunks used for n items: enough for load balance, few enough to be cheap.
+inline std::size_t chunk_count(std::size_t n, std::size_t min_chunk = 256) {
+  return std::max<std::size_t>(1, std::min<std::size_t>(64, n / min_chunk));
+}
+
+/// Calls fn(chunk, begin, end) for every chunk of [0, n) split into `chunks` contiguous parts,
+/// on up to `threads` threads. Rethrows the exception of the lowest failing chunk.
+template <class Fn>
+void parallel_chunks(std::size_t n, std::size_t chunks, int threads, Fn&& fn) {
+  auto bounds = [&](std::size_t c) { return n * c / chunks; };
+  const int workers = static_cast<int>(std::min<std::size_t>(std::max(threads, 1), chunks));
+  if (workers <= 1) {
+    for (std::size_t c = 0; c < chunks; ++c) fn(c, bounds(c), bounds(c + 1));
+    return;
+  }
+  std::atomic<std::size_t> next{0};
+  std::vector<std::exception_ptr> errors(chunks);
+  auto work = [&]() {
+    for (std::size_t c = next++; c < chunks; c = next++) {
+      try {
+        fn(c, bounds(c), bounds(c + 1));
+      } catch (...) {
+        errors[c] = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < workers; ++w) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  for (auto& e : errors)
+    if (e) std::rethrow_exception(e);
+}
+
+}  // namespace fracref::geom_detail
