@@ -1,0 +1,128 @@
+// Vertex-face CSR, the edge table, vertex flags and per-piece copies of the fracture surface.
+#include <algorithm>
+#include <numeric>
+
+#include "surface/surface_internal.hpp"
+
+namespace fracref::surface_detail {
+
+void build_vertex_faces(FractureSurface& s) {
+  const std::size_t nv = s.positions.size();
+  s.vf_offsets.assign(nv + 1, 0);
+  for (const glm::uvec4& f : s.faces)
+    for (int i = 0; i < 3; ++i) ++s.vf_offsets[f[i] + 1];
+  std::partial_sum(s.vf_offsets.begin(), s.vf_offsets.end(), s.vf_offsets.begin());
+  s.vf_faces.resize(s.vf_offsets.back());
+  std::vector<std::uint32_t> cursor(s.vf_offsets.begin(), s.vf_offsets.end() - 1);
+  // Faces are visited in ascending order, so every vertex's list comes out ascending.
+  for (std::uint32_t f = 0; f < s.faces.size(); ++f)
+    for (int i = 0; i < 3; ++i) s.vf_faces[cursor[s.faces[f][i]]++] = f;
+}
+
+void build_edges(FractureSurface& s) {
+  const std::size_t nv = s.positions.size(), nf = s.faces.size();
+  // Bucket the 3F face slots by their edge's smaller vertex, then sort each small bucket by
+  // (larger vertex, slot): edges come out sorted and each edge's faces ascending, in O(n).
+  std::vector<std::uint32_t> bucket(nv + 1, 0);
+  for (const glm::uvec4& f : s.faces)
+    for (int i = 0; i < 3; ++i) ++bucket[std::min(f[i], f[(i + 1) % 3]) + 1];
+  std::partial_sum(bucket.begin(), bucket.end(), bucket.begin());
+  std::vector<std::uint64_t> slots(3 * nf);
+  std::vector<std::uint32_t> cursor(bucket.begin(), bucket.end() - 1);
+  for (std::uint32_t f = 0; f < nf; ++f)
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      const std::uint32_t a = s.faces[f][i], b = s.faces[f][(i + 1) % 3];
+      slots[cursor[std::min(a, b)]++] = (std::uint64_t(std::max(a, b)) << 32) | (3 * f + i);
+    }
+  s.edges.clear();
+  s.ef_offsets.assign(1, 0);
+  s.ef_faces.resize(3 * nf);
+  s.face_edges.resize(3 * nf);
+  for (std::uint32_t a = 0; a < nv; ++a) {
+    std::sort(slots.begin() + bucket[a], slots.begin() + bucket[a + 1]);
+    for (std::uint32_t k = bucket[a]; k < bucket[a + 1]; ++k) {
+      const auto b = std::uint32_t(slots[k] >> 32), slot = std::uint32_t(slots[k]);
+      if (k == bucket[a] || std::uint32_t(slots[k - 1] >> 32) != b) {
+        s.edges.emplace_back(a, b);
+        s.ef_offsets.push_back(s.ef_offsets.back());
+      }
+      s.ef_faces[s.ef_offsets.back()++] = slot / 3;
+      s.face_edges[slot] = std::uint32_t(s.edges.size() - 1);
+    }
+  }
+  s.edge_special.resize(s.edges.size());
+  for (std::size_t e = 0; e < s.edges.size(); ++e) {
+    const std::uint32_t n = s.ef_offsets[e + 1] - s.ef_offsets[e];
+    s.edge_special[e] = n == 1 ? kEdgeBoundary : n == 2 ? kEdgeRegular : kEdgeNonManifold;
+  }
+}
+
+std::uint32_t fan_count(const FractureSurface& s, std::uint32_t v, std::vector<glm::uvec2>& scratch) {
+  const std::uint32_t begin = s.vf_offsets[v], n = s.vf_offsets[v + 1] - begin;
+  if (n <= 1) return n;
+  // (edge, local face) for the two edges of each incident face that touch v.
+  scratch.clear();
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const std::uint32_t f = s.vf_faces[begin + k];
+    for (std::uint32_t i = 0; i < 3; ++i)
+      if (s.faces[f][i] == v) {
+        scratch.emplace_back(s.face_edges[3 * f + i], k);
+        scratch.emplace_back(s.face_edges[3 * f + (i + 2) % 3], k);
+      }
+  }
+  std::sort(scratch.begin(), scratch.end(), [](glm::uvec2 x, glm::uvec2 y) {
+    return x.x != y.x ? x.x < y.x : x.y < y.y;
+  });
+  std::vector<std::uint32_t> parent(n);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto root = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::uint32_t fans = n;
+  for (std::size_t k = 1; k < scratch.size(); ++k) {
+    if (scratch[k].x != scratch[k - 1].x) continue;
+    const std::uint32_t ra = root(scratch[k].y), rb = root(scratch[k - 1].y);
+    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb), --fans;
+  }
+  return fans;
+}
+
+void build_vertex_flags(FractureSurface& s) {
+  s.vertex_flags.resize(s.positions.size(), 0);
+  for (std::uint32_t& f : s.vertex_flags) f &= kVertexOriginal;
+  for (std::size_t e = 0; e < s.edges.size(); ++e) {
+    const std::uint32_t bit = s.edge_special[e] == kEdgeBoundary      ? kVertexBoundary
+                              : s.edge_special[e] == kEdgeNonManifold ? kVertexNonManifold
+                                                                      : 0u;
+    s.vertex_flags[s.edges[e].x] |= bit;
+    s.vertex_flags[s.edges[e].y] |= bit;
+  }
+  std::vector<glm::uvec2> scratch;
+  for (std::uint32_t v = 0; v < s.positions.size(); ++v)
+    if (!(s.vertex_flags[v] & kVertexNonManifold) && fan_count(s, v, scratch) > 1)
+      s.vertex_flags[v] |= kVertexNonManifold;
+}
+
+void build_copies(FractureSurface& s) {
+  const std::size_t nv = s.positions.size();
+  s.copy_offsets.assign(nv + 1, 0);
+  s.copies.clear();
+  s.piece_vertex_counts.assign(std::size_t(std::max(s.piece_count, 0)), 0);
+  std::vector<std::uint32_t> pieces;
+  // Vertices are visited in ascending order, so each piece numbers its vertices ascending.
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    pieces.clear();
+    for (std::uint32_t k = s.vf_offsets[v]; k < s.vf_offsets[v + 1]; ++k) {
+      const glm::ivec2 p = s.face_pieces[s.vf_faces[k]];
+      pieces.push_back(std::uint32_t(p.x));
+      pieces.push_back(std::uint32_t(p.y));
+    }
+    std::sort(pieces.begin(), pieces.end());
+    pieces.erase(std::unique(pieces.begin(), pieces.end()), pieces.end());
+    for (std::uint32_t p : pieces) s.copies.emplace_back(p, s.piece_vertex_counts[p]++);
+    s.copy_offsets[v + 1] = std::uint32_t(s.copies.size());
+  }
+}
+
+}  // namespace fracref::surface_detail

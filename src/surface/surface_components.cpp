@@ -1,0 +1,103 @@
+// Side components of the fracture surface: the regions of the volume next to S, found by a flood
+// fill over face sides. Each region is one piece (or part of one), which is what lets validate()
+// check the piece labels against the geometry.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "surface/surface_internal.hpp"
+
+namespace fracref::surface_detail {
+namespace {
+
+std::uint32_t opposite_vertex(const glm::uvec4& face, glm::uvec2 edge) {
+  for (int i = 0; i < 3; ++i)
+    if (face[i] != edge.x && face[i] != edge.y) return face[i];
+  return face[0];
+}
+
+// Faces of a non-manifold edge in counter-clockwise order around the axis a -> b (a < b), by
+// the angle of each face's opposite vertex in the plane perpendicular to the axis.
+std::vector<std::uint32_t> radial_order(const FractureSurface& s, std::uint32_t e) {
+  const glm::uvec2 ab = s.edges[e];
+  const glm::dvec3 pa(s.positions[ab.x]), t = glm::dvec3(s.positions[ab.y]) - pa;
+  const double tt = glm::dot(t, t);
+  std::vector<std::pair<double, std::uint32_t>> keyed;
+  std::vector<glm::dvec3> perp;
+  for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) {
+    const std::uint32_t f = s.ef_faces[k];
+    const glm::dvec3 u = glm::dvec3(s.positions[opposite_vertex(s.faces[f], ab)]) - pa;
+    perp.push_back(tt > 0.0 ? u - t * (glm::dot(u, t) / tt) : glm::dvec3(0.0));
+    keyed.emplace_back(0.0, f);
+  }
+  // The reference direction is the first face's (lowest id) with a usable perpendicular.
+  auto ref = std::find_if(perp.begin(), perp.end(), [](const glm::dvec3& p) { return glm::dot(p, p) > 0.0; });
+  if (ref != perp.end()) {
+    const glm::dvec3 e1 = glm::normalize(*ref), e2 = glm::cross(t / std::sqrt(tt), e1);
+    for (std::size_t k = 0; k < perp.size(); ++k)
+      keyed[k].first = std::atan2(glm::dot(perp[k], e2), glm::dot(perp[k], e1));
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<std::uint32_t> order;
+  for (const auto& [angle, f] : keyed) order.push_back(f);
+  return order;
+}
+
+void join_regular(const FractureSurface& s, std::uint32_t e, std::vector<SideJoin>& out) {
+  const std::uint32_t f = s.ef_faces[s.ef_offsets[e]], g = s.ef_faces[s.ef_offsets[e] + 1];
+  const bool consistent = traverses_forward(s, f, e) != traverses_forward(s, g, e);
+  out.push_back({e, face_side(f, false), face_side(g, !consistent)});
+  out.push_back({e, face_side(f, true), face_side(g, consistent)});
+}
+
+// A face traversing a -> b has its normal along axis x (opposite vertex), i.e. pointing to the
+// counter-clockwise wedge: its front faces the wedge after it, its back the wedge before it.
+void join_non_manifold(const FractureSurface& s, std::uint32_t e, std::vector<SideJoin>& out) {
+  const std::vector<std::uint32_t> order = radial_order(s, e);
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const std::uint32_t f = order[k], g = order[(k + 1) % order.size()];
+    out.push_back({e, face_side(f, !traverses_forward(s, f, e)), face_side(g, traverses_forward(s, g, e))});
+  }
+}
+
+}  // namespace
+
+bool traverses_forward(const FractureSurface& s, std::uint32_t f, std::uint32_t e) {
+  for (std::uint32_t i = 0; i < 3; ++i)
+    if (s.face_edges[3 * f + i] == e) return s.faces[f][i] == s.edges[e].x;
+  return false;
+}
+
+std::vector<SideJoin> side_joins(const FractureSurface& s) {
+  std::vector<SideJoin> joins;
+  joins.reserve(s.ef_faces.size());
+  for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
+    const std::uint32_t n = s.ef_offsets[e + 1] - s.ef_offsets[e];
+    if (n == 2) join_regular(s, e, joins);
+    else if (n >= 3) join_non_manifold(s, e, joins);
+  }
+  return joins;
+}
+
+void build_components(FractureSurface& s) {
+  const std::size_t sides = 2 * s.faces.size();
+  std::vector<std::uint32_t> parent(sides);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto root = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const SideJoin& j : side_joins(s)) {
+    const std::uint32_t ra = root(j.a), rb = root(j.b);
+    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+  }
+  // Roots are each component's lowest side, so numbering in side order is deterministic.
+  s.side_component.assign(sides, 0);
+  s.component_count = 0;
+  for (std::uint32_t x = 0; x < sides; ++x) {
+    const std::uint32_t r = root(x);
+    s.side_component[x] = r == x ? s.component_count++ : s.side_component[r];
+  }
+}
+
+}  // namespace fracref::surface_detail

@@ -1,0 +1,39 @@
+#pragma once
+// Internal steps of rebuild_adjacency(), shared by the builder and validate(). Not a public API.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "surface/fracture_surface.hpp"
+
+namespace fracref::surface_detail {
+
+/// vf_offsets / vf_faces. \pre face indices in range.
+void build_vertex_faces(FractureSurface& s);
+/// edges, ef_offsets / ef_faces, face_edges, edge_special.
+void build_edges(FractureSurface& s);
+/// Boundary and non-manifold bits (kVertexOriginal kept). \pre vf and edges built.
+void build_vertex_flags(FractureSurface& s);
+/// side_component, component_count. \pre edges built.
+void build_components(FractureSurface& s);
+/// copy_offsets, copies, piece_vertex_counts. \pre vf built.
+void build_copies(FractureSurface& s);
+
+/// Two face sides found to face the same region across an edge.
+struct SideJoin {
+  std::uint32_t edge, a, b;
+};
+/// Every join, in edge order, as build_components() uses them. \pre edges built.
+std::vector<SideJoin> side_joins(const FractureSurface& s);
+
+/// "face g: duplicate of face f (vertices a b c)" for the lowest face g whose vertex set an
+/// earlier face f already has, or "". \pre indices in range.
+std::string first_duplicate_face(const std::vector<glm::uvec4>& faces);
+
+/// Whether face f traverses edge e from its smaller vertex to its larger one.
+bool traverses_forward(const FractureSurface& s, std::uint32_t f, std::uint32_t e);
+
+/// How many edge-connected fans the faces around vertex v form. \pre vf and edges built.
+std::uint32_t fan_count(const FractureSurface& s, std::uint32_t v, std::vector<glm::uvec2>& scratch);
+
+}  // namespace fracref::surface_detail
