@@ -26,26 +26,41 @@ constexpr std::array<std::uint8_t, 256> kReferencePermutation = {
 double fade(double t) { return t * t * t * (t * (t * 6 - 15) + 10); }
 double lerp(double t, double a, double b) { return a + t * (b - a); }
 
+// Perlin's grad(hash, x, y, z) as a table of the 16 gradients his bit tests select
+// (u = h<8 ? x : y; v = h<4 ? y : h==12||h==14 ? x : z; signs from bits 0 and 1), without the
+// unpredictable branches. Every product is by 0 or ±1 and one term is always 0, so the result
+// is the reference's ±u ± v exactly (up to the sign of a zero).
+constexpr double kGradients[16][3] = {
+    {1, 1, 0},  {-1, 1, 0},  {1, -1, 0},  {-1, -1, 0},  // h = 0..3:  ±x ± y
+    {1, 0, 1},  {-1, 0, 1},  {1, 0, -1},  {-1, 0, -1},  // h = 4..7:  ±x ± z
+    {0, 1, 1},  {0, -1, 1},  {0, 1, -1},  {0, -1, -1},  // h = 8..11: ±y ± z
+    {1, 1, 0},  {0, -1, 1},  {-1, 1, 0},  {0, -1, -1},  // h = 12..15: y+x, -y+z, y-x, -y-z
+};
+
 double grad(int hash, double x, double y, double z) {
-  const int h = hash & 15;
-  const double u = h < 8 ? x : y;
-  const double v = h < 4 ? y : (h == 12 || h == 14) ? x : z;
-  return ((h & 1) == 0 ? u : -u) + ((h & 2) == 0 ? v : -v);
+  const double* g = kGradients[hash & 15];
+  return g[0] * x + g[1] * y + g[2] * z;
 }
 
-// floor(v) mod 256 in [0, 255], exact for any finite v (the Java cast would overflow past 2^31;
-// for |v| < 2^31 this equals (int)floor(v) & 255). Dividing by 256 is exact in binary floating
-// point, so the wrap introduces no rounding.
-int lattice_index(double floor_v) {
-  return static_cast<int>(floor_v - 256.0 * std::floor(floor_v / 256.0));
+// Splits v into its lattice cell floor(v) mod 256 (in [0, 255]) and the fraction v - floor(v),
+// exactly for any finite v: the Java reference's (int) cast would overflow past 2^31. Below
+// 2^62 an int64 conversion gives the floor without a libm call (every double that large is an
+// integer, held exactly by int64, and & 255 is the non-negative residue in two's complement).
+// Beyond, v is an integer and dividing by 256 is exact, so the wrap introduces no rounding.
+int split_lattice(double& v) {
+  if (std::abs(v) < 0x1p62) {
+    std::int64_t i = static_cast<std::int64_t>(v);
+    i -= v < static_cast<double>(i);
+    v -= static_cast<double>(i);
+    return static_cast<int>(i & 255);
+  }
+  const int index = static_cast<int>(v - 256.0 * std::floor(v / 256.0));
+  v = 0.0;
+  return index;
 }
 
 double improved_noise(const std::uint8_t* p, double x, double y, double z) {
-  const double fx = std::floor(x), fy = std::floor(y), fz = std::floor(z);
-  const int X = lattice_index(fx), Y = lattice_index(fy), Z = lattice_index(fz);
-  x -= fx;
-  y -= fy;
-  z -= fz;
+  const int X = split_lattice(x), Y = split_lattice(y), Z = split_lattice(z);
   const double u = fade(x), v = fade(y), w = fade(z);
   const int A = p[X] + Y, AA = p[A] + Z, AB = p[A + 1] + Z;
   const int B = p[X + 1] + Y, BA = p[B] + Z, BB = p[B + 1] + Z;
