@@ -16,20 +16,25 @@ using ivec4 = glm::ivec4;
 /// Workgroup size of every 1D kernel (DESIGN.md: 32–256 perform alike on lavapipe).
 #define FRACREF_WORKGROUP 64
 
-// ---- Gaussian pyramid (blur along one axis, 2x downsample) ----
-// Grids are x-fastest: index = x + nx*(y + ny*z).
+// ---- Gaussian pyramid: one decimating 1D blur pass (shaders/pyramid_blur.comp) ----
+// Grids are x-fastest: index = x + nx*(y + ny*z). A pass blurs along `axis` and keeps every
+// second node along it: output coordinate c reads input coordinates clamp(2c + k, 0, n-1),
+// k in [-r, r]; the other two coordinates are shared. Passes x, y, z make one pyramid level.
+#define FRACREF_BLUR_MAX_RADIUS 64
+#define FRACREF_BLUR_WEIGHT_VEC4S 33  // (2 * FRACREF_BLUR_MAX_RADIUS + 1 + 3) / 4
 struct BlurParams {
-  uvec4 dims;      // nx, ny, nz, axis (0, 1, 2)
-  uvec4 taps;      // radius, 0, 0, 0
+  uvec4 src_dims;  // nx, ny, nz of the input, axis (0, 1, 2)
+  uvec4 dst_dims;  // nx, ny, nz of the output ((n+1)/2 along axis), radius r
 };
-struct DownsampleParams {
-  uvec4 src_dims;  // nx, ny, nz, 0
-  uvec4 dst_dims;  // (n+1)/2 per axis, 0
+// The 2r+1 normalised weights w[k+r], four per vec4 (std140 uniform block: stride 16 both sides).
+struct BlurWeights {
+  vec4 w[FRACREF_BLUR_WEIGHT_VEC4S];
 };
 
 #ifdef __cplusplus
 static_assert(sizeof(BlurParams) == 32);
-static_assert(sizeof(DownsampleParams) == 32);
+static_assert(sizeof(BlurWeights) == 16 * FRACREF_BLUR_WEIGHT_VEC4S);
+static_assert(4 * FRACREF_BLUR_WEIGHT_VEC4S >= 2 * FRACREF_BLUR_MAX_RADIUS + 1);
 }  // namespace fracref::gpu
 #endif
 
