@@ -36,7 +36,7 @@ struct FbmParams {
 };
 
 /// `marble` (the paper's bunny). Stripes m = sin(2π(u + distortion·T(q))), with u the distance
-/// along `vein_direction` in units of scale·diagonal and T the turbulence (5 octaves), split space
+/// along `vein_direction` in units of scale·diagonal and T the turbulence (turbulence_octaves), split space
 /// into BLUE veins (weight w = smoothstep(threshold - edge, threshold + edge, m) → 1) and WHITE
 /// marble (w → 0). White: soft and smooth, low-frequency noise; blue: hard, fine grains of noise at
 /// `grain_frequency` times the base frequency.
