@@ -36,9 +36,9 @@ struct FbmParams {
 };
 
 /// `marble` (the paper's bunny). Stripes m = sin(2π(u + distortion·T(q))), with u the distance
-/// along `vein_direction` in units of scale·diagonal and T the turbulence (turbulence_octaves), split space
-/// into BLUE veins (weight w = smoothstep(threshold - edge, threshold + edge, m) → 1) and WHITE
-/// marble (w → 0). White: soft and smooth, low-frequency noise; blue: hard, fine grains of noise at
+/// along `vein_direction` in units of scale·diagonal and T the turbulence of
+/// `turbulence_octaves` octaves, split space into BLUE veins (weight
+/// w = smoothstep(threshold - edge, threshold + edge, m) → 1) and WHITE marble (w → 0). White: soft and smooth, low-frequency noise; blue: hard, fine grains of noise at
 /// `grain_frequency` times the base frequency.
 ///   ζ = (1-w)·lerp(white_min, white_max, n01(q·white_frequency))
 ///       + w·lerp(blue_min, blue_max, n01(q·grain_frequency)),  n01 = clamp(0.5 + 0.5·noise, 0, 1).
