@@ -1,0 +1,162 @@
+// AABB tree: box queries and overlapping pairs against brute force, closest point against
+// brute force, point-in-mesh on a box and a sphere.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "geom/bvh.hpp"
+#include "geom/shapes.hpp"
+#include "util/error.hpp"
+
+namespace {
+
+using fracref::Aabb;
+using fracref::Bvh;
+using glm::dvec3;
+
+std::vector<Aabb> random_boxes(std::mt19937_64& rng, int n, double size) {
+  std::uniform_real_distribution<double> pos(0.0, 10.0), ext(0.0, size);
+  std::vector<Aabb> boxes(n);
+  for (auto& b : boxes) {
+    b.lo = dvec3(pos(rng), pos(rng), pos(rng));
+    b.hi = b.lo + dvec3(ext(rng), ext(rng), ext(rng));
+  }
+  return boxes;
+}
+
+fracref::TriangleSoup random_soup(std::mt19937_64& rng, int n) {
+  std::uniform_real_distribution<double> pos(-5.0, 5.0), off(-0.7, 0.7);
+  fracref::TriangleSoup m;
+  for (int t = 0; t < n; ++t) {
+    const dvec3 c(pos(rng), pos(rng), pos(rng));
+    for (int k = 0; k < 3; ++k) m.positions.push_back(c + dvec3(off(rng), off(rng), off(rng)));
+    const auto b = static_cast<std::uint32_t>(3 * t);
+    m.triangles.push_back({b, b + 1, b + 2});
+  }
+  return m;
+}
+
+TEST(GeomBvh, BoxQueriesAndPairsMatchBruteForce) {
+  std::mt19937_64 rng(5);
+  const auto a = random_boxes(rng, 700, 0.8), b = random_boxes(rng, 500, 1.2);
+  const Bvh ta = fracref::build_bvh(a, {}), tb = fracref::build_bvh(b, {3});
+  ASSERT_EQ(ta.items.size(), a.size());
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> cross, self;
+  for (std::uint32_t i = 0; i < a.size(); ++i) {
+    for (std::uint32_t j = 0; j < b.size(); ++j)
+      if (a[i].overlaps(b[j])) cross.emplace_back(i, j);
+    for (std::uint32_t j = i + 1; j < a.size(); ++j)
+      if (a[i].overlaps(a[j])) self.emplace_back(i, j);
+  }
+  ASSERT_GT(cross.size(), 100u);
+  for (int threads : {1, 2}) {
+    EXPECT_EQ(fracref::overlapping_pairs(ta, tb, threads), cross);
+    EXPECT_EQ(fracref::self_overlapping_pairs(ta, threads), self);
+  }
+  // Touching boxes overlap (closed test).
+  const Bvh touching = fracref::build_bvh(std::vector<Aabb>{{dvec3(0), dvec3(1)}, {dvec3(1, 0, 0), dvec3(2, 1, 1)}});
+  EXPECT_EQ(fracref::self_overlapping_pairs(touching).size(), 1u);
+  std::vector<std::uint32_t> hits;
+  fracref::query_box(ta, Aabb{dvec3(20), dvec3(21)}, hits);
+  EXPECT_TRUE(hits.empty());
+  EXPECT_TRUE(fracref::build_bvh(std::vector<Aabb>{}).nodes.empty());
+}
+
+TEST(GeomBvh, ClosestPointMatchesBruteForce) {
+  std::mt19937_64 rng(9);
+  const auto soup = random_soup(rng, 400);
+  const Bvh bvh = fracref::build_bvh(soup.positions, soup.triangles);
+  std::uniform_real_distribution<double> q(-7.0, 7.0);
+  for (int it = 0; it < 500; ++it) {
+    const dvec3 p(q(rng), q(rng), q(rng));
+    const auto got = fracref::closest_point(bvh, p);
+    double best = INFINITY;
+    for (const auto& t : soup.triangles)
+      best = std::min(best, fracref::closest_point_on_triangle(p, soup.positions[t[0]], soup.positions[t[1]],
+                                                               soup.positions[t[2]])
+                                .squared_distance);
+    ASSERT_NEAR(got.squared_distance, best, 1e-12 * (1 + best)) << it;
+    const auto& t = soup.triangles[got.triangle];
+    const dvec3 rebuilt = got.barycentric[0] * soup.positions[t[0]] + got.barycentric[1] * soup.positions[t[1]] +
+                          got.barycentric[2] * soup.positions[t[2]];
+    EXPECT_NEAR(glm::length(rebuilt - got.point), 0.0, 1e-12);
+    EXPECT_NEAR(got.barycentric[0] + got.barycentric[1] + got.barycentric[2], 1.0, 1e-12);
+    EXPECT_GE(std::min({got.barycentric[0], got.barycentric[1], got.barycentric[2]}), -1e-12);
+    EXPECT_NEAR(glm::dot(p - got.point, p - got.point), got.squared_distance, 1e-12 * (1 + best));
+  }
+}
+
+TEST(GeomBvh, ClosestPointOnASphereIsRadial) {
+  const auto sphere = fracref::make_uv_sphere({1, 2, 3}, 2.0, 48, 64);
+  const Bvh bvh = fracref::build_bvh(sphere.positions, sphere.triangles);
+  // A vertex is its own closest point.
+  const auto at_vertex = fracref::closest_point(bvh, sphere.positions[100]);
+  EXPECT_EQ(at_vertex.squared_distance, 0.0);
+  // Far away on the +x axis: the closest point is near (3, 2, 3), within the faceting error.
+  const auto far = fracref::closest_point(bvh, {10, 2, 3});
+  EXPECT_NEAR(far.point.x, 3.0, 0.01);
+  EXPECT_NEAR(std::sqrt(far.squared_distance), 7.0, 0.01);
+}
+
+TEST(GeomBvh, DegenerateTrianglesHaveFiniteClosestPoints) {
+  const std::vector<dvec3> pos{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {5, 5, 5}};
+  const Bvh bvh = fracref::build_bvh(pos, {{0, 1, 2}, {3, 3, 3}});
+  const auto c = fracref::closest_point(bvh, {1.5, 1, 0});
+  EXPECT_EQ(c.triangle, 0u);
+  EXPECT_NEAR(c.squared_distance, 1.0, 1e-15);
+  EXPECT_NEAR(c.point.x, 1.5, 1e-15);
+}
+
+TEST(GeomBvh, PointInBox) {
+  const auto box = fracref::make_box({-1, -2, -3}, {1, 2, 3}, 4);
+  const Bvh bvh = fracref::build_bvh(box.positions, box.triangles);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> q(-4.0, 4.0);
+  int inside = 0;
+  for (int it = 0; it < 3000; ++it) {
+    dvec3 p(q(rng), q(rng), q(rng));
+    if (it % 3 == 0) p = glm::round(p * 2.0) / 2.0;  // on the grid lines and planes of the faces
+    const bool expected = std::abs(p.x) <= 1 && std::abs(p.y) <= 2 && std::abs(p.z) <= 3;
+    ASSERT_EQ(fracref::point_in_mesh(bvh, p), expected) << p.x << " " << p.y << " " << p.z;
+    inside += expected;
+  }
+  EXPECT_GT(inside, 200);
+  // On the surface: face, edge, corner count as inside; one ulp out does not.
+  EXPECT_TRUE(fracref::point_in_mesh(bvh, {1, 0.3, 0.1}));
+  EXPECT_TRUE(fracref::point_in_mesh(bvh, {1, 2, 0.7}));
+  EXPECT_TRUE(fracref::point_in_mesh(bvh, {-1, -2, -3}));
+  EXPECT_FALSE(fracref::point_in_mesh(bvh, {std::nextafter(1.0, 2.0), 0.3, 0.1}));
+  EXPECT_TRUE(fracref::point_in_mesh(bvh, {std::nextafter(1.0, 0.0), 0.3, 0.1}));
+}
+
+TEST(GeomBvh, PointInSphereAgreesWithWindingNumber) {
+  const auto sphere = fracref::make_uv_sphere({0.5, -0.25, 0.125}, 1.0, 24, 32);
+  const Bvh bvh = fracref::build_bvh(sphere.positions, sphere.triangles);
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> q(-1.5, 1.5);
+  int inside = 0;
+  for (int it = 0; it < 1000; ++it) {
+    const dvec3 p = dvec3(0.5, -0.25, 0.125) + dvec3(q(rng), q(rng), q(rng));
+    const double w = fracref::winding_number(bvh, p);
+    const bool in = fracref::point_in_mesh(bvh, p);
+    ASSERT_NEAR(w, in ? 1.0 : 0.0, 1e-6) << it;
+    const double r = glm::length(p - dvec3(0.5, -0.25, 0.125));
+    if (r < 0.98) {
+      EXPECT_TRUE(in);
+    }
+    if (r > 1.0) {
+      EXPECT_FALSE(in);
+    }
+    inside += in;
+  }
+  EXPECT_GT(inside, 100);
+}
+
+TEST(GeomBvh, BadMeshesAreRejected) {
+  const std::vector<dvec3> pos{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  EXPECT_THROW(fracref::build_bvh(pos, {{0, 1, 3}}), fracref::InputError);
+  EXPECT_THROW(fracref::build_bvh({{0, 0, 0}, {NAN, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}), fracref::InputError);
+}
+
+}  // namespace
