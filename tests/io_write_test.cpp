@@ -251,3 +251,26 @@ TEST_F(WriteTest, WritingReplacesTheFileAndLeavesNoTemporaries) {
   for (const auto& entry : fs::directory_iterator(dir_)) files += entry.is_regular_file();
   EXPECT_EQ(files, 1u);
 }
+
+TEST_F(WriteTest, UnreadableFileIsAnInputError) {
+  fs::path p = dir_ / "locked.obj";
+  std::ofstream(p) << "v 0 0 0\n";
+  fs::permissions(p, fs::perms::none);
+  if (std::ifstream(p).good()) GTEST_SKIP() << "this user can read any file (root)";
+  try {
+    read_mesh(p);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), p.string() + ": cannot open for reading: Permission denied");
+  }
+}
+
+TEST_F(WriteTest, FolderIsAnInputError) {
+  fs::create_directories(dir_ / "folder.ply");
+  try {
+    read_mesh(dir_ / "folder.ply");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), (dir_ / "folder.ply").string() + ": cannot open: it is a directory");
+  }
+}

@@ -25,9 +25,10 @@
 // When any face lies in a group, faces before the first `o`/`g` belong to group "default".
 // Line continuation with a trailing '\' is not supported (the backslash is a bad field).
 //
-// OFF: the first non-comment line is exactly `OFF` (COFF, NOFF, 4OFF, ... are errors naming the
-// variant), then `nv nf ne`, then nv lines of exactly 3 coordinates and nf lines `n i0 .. in-1`
-// with 0-based indices (face colors are not supported). One vertex or face per line; '#'
+// OFF: the first non-comment line is `OFF` (COFF, NOFF, 4OFF, ... are errors naming the
+// variant), then `nv nf ne` (on their own line or after `OFF`; ne is not checked), then nv lines
+// of exactly 3 coordinates and nf lines `n i0 .. in-1` with 0-based indices (face colors are not
+// supported). One vertex or face per line; '#'
 // comments and blank lines are allowed anywhere; data after the last face is an error.
 //
 // PLY: `format ascii 1.0` and `format binary_little_endian 1.0` (big-endian is an error naming
