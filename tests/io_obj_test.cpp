@@ -103,6 +103,11 @@ TEST_F(ObjTest, CrlfReadsLikeLf) {
   EXPECT_TRUE(fails_at("v 0 0 0\r\nv 1 0 0\r\nv nan 0 0\r\n", 3, "coordinate 'nan' is not finite"));
 }
 
+TEST_F(ObjTest, LeadingUtf8ByteOrderMarkIsSkipped) {
+  EXPECT_EQ(read(std::string("\xEF\xBB\xBF") + kTetra).triangles.size(), 4u);
+  EXPECT_TRUE(fails_at("v 0 0 0\n\xEF\xBB\xBFv 1 0 0\n", 2, "unknown OBJ statement"));  // only at the start
+}
+
 TEST_F(ObjTest, FacesBeforeTheirVerticesAreResolvedAfterTheFile) {
   MeshSoup s = read("f 1 2 3\nf 3 2 4\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n");
   ASSERT_EQ(s.triangles.size(), 2u);

@@ -85,6 +85,7 @@ TEST_F(OffTest, CommentsBlankLinesCrlfAndCountsOnTheKeywordLine) {
                     "3 0 2 1\n3 0 1 3 # a comment\n3 1 2 3\n3 2 0 3\n\n# end\n");
   MeshSoup b = read("OFF 4 4 6\r\n0 0 0\r\n1 0 0\r\n0 1 0\r\n0 0 1\r\n3 0 2 1\r\n3 0 1 3\r\n3 1 2 3\r\n3 2 0 3\r\n");
   MeshSoup c = read(kTetra);
+  EXPECT_EQ(read("\xEF\xBB\xBF" + kTetra).triangles, c.triangles);
   EXPECT_EQ(a.triangles, c.triangles);
   EXPECT_EQ(b.triangles, c.triangles);
   EXPECT_EQ(b.positions, c.positions);

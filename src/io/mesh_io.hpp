@@ -8,7 +8,8 @@
 //   "mesh.ply: byte 1234: file ends inside face 7 (truncated)"
 // Accepted exactly as written (nothing merged, dropped or reoriented): non-manifold edges and
 // vertices, inconsistent winding, unused vertices, quads and n-gons (fan-triangulated from
-// their first vertex and counted in MeshSoup::polygons_triangulated), CRLF line endings.
+// their first vertex and counted in MeshSoup::polygons_triangulated), CRLF line endings, and a
+// UTF-8 byte order mark at the start of an OBJ or OFF file.
 //
 // Numbers are parsed with std::from_chars (exact, locale-free): one leading '+' is allowed on
 // real numbers, nothing may trail a number, and NaN, infinities and values out of the range of

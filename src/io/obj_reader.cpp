@@ -78,7 +78,7 @@ class ObjParser {
 };
 
 MeshSoup ObjParser::parse() {
-  LineCursor cursor(text_);
+  LineCursor cursor(skip_utf8_bom(text_));
   std::string_view line;
   while (cursor.next(line)) {
     line_ = cursor.line_number();

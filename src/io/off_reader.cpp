@@ -15,7 +15,7 @@ using namespace io_detail;
 
 class OffParser {
  public:
-  OffParser(std::string file, std::string_view text) : file_(std::move(file)), cursor_(text), bytes_(text.size()) {}
+  OffParser(std::string file, std::string_view text) : file_(std::move(file)), cursor_(skip_utf8_bom(text)), bytes_(text.size()) {}
   MeshSoup parse();
 
  private:

@@ -29,6 +29,11 @@ std::string read_whole_file(const fs::path& path) {
   return text;
 }
 
+std::string_view skip_utf8_bom(std::string_view text) {
+  constexpr std::string_view kBom = "\xEF\xBB\xBF";
+  return text.substr(0, 3) == kBom ? text.substr(3) : text;
+}
+
 bool LineCursor::next(std::string_view& line) {
   if (pos_ >= text_.size()) return false;
   std::size_t end = text_.find('\n', pos_);

@@ -17,6 +17,9 @@ namespace fracref::io_detail {
 /// \throw InputError "<file>: ..." when the file is missing, a folder, unreadable or empty.
 std::string read_whole_file(const std::filesystem::path& path);
 
+/// `text` without a leading UTF-8 byte order mark (some Windows tools write one into OBJ/OFF).
+std::string_view skip_utf8_bom(std::string_view text);
+
 /// Walks `text` line by line; "\r\n" and "\n" both end a line (the '\r' is dropped).
 class LineCursor {
  public:
