@@ -248,3 +248,8 @@ TEST_F(ObjTest, ControlBytesInTokensAreEscapedInMessages) {
   std::string msg = error(std::string("v 1\x01 2 3\n"));
   EXPECT_NE(msg.find("'1\\x01'"), std::string::npos) << msg;
 }
+
+TEST_F(ObjTest, TheFirstBadFieldIsReported) {
+  EXPECT_TRUE(fails_at("v a 0 b\n", 1, "coordinate 'a' is not a number"));
+  EXPECT_TRUE(fails_at("v 0 0 0\nv 0 0 1\nv 1 0 0\nf 1 x 0\n", 4, "vertex index 'x'"));
+}

@@ -118,8 +118,8 @@ void ObjParser::vertex() {
   const std::size_t n = tokens_.size() - 1;
   if (n != 3 && n != 4)
     throw error("vertex needs 3 coordinates (or 4 with w = 1), got " + std::to_string(n));
-  glm::dvec3 p(real(tokens_[1], "coordinate"), real(tokens_[2], "coordinate"),
-               real(tokens_[3], "coordinate"));
+  glm::dvec3 p;
+  for (int k = 0; k < 3; ++k) p[k] = real(tokens_[k + 1], "coordinate");  // left to right
   if (n == 4 && real(tokens_[4], "vertex weight") != 1.0)
     throw error("vertex weight w = " + std::string(tokens_[4]) +
                 " is not supported (rational vertices); only w = 1 is accepted");
