@@ -92,6 +92,8 @@ FractureSurface make_fracture_surface(std::vector<glm::vec4> positions, std::vec
 
 /// Recomputes every derived array of `s` and the boundary / non-manifold bits of vertex_flags
 /// (kVertexOriginal is kept) from positions, faces and face_pieces. Deterministic, O(n log n).
+/// vertex_flags is first resized to the vertex count: vertices appended by a topology edit may
+/// leave it short, and get no kVertexOriginal bit.
 ///
 /// Side components: a flood fill over face sides. Across a regular edge, consistently wound faces
 /// join front to front and back to back, oppositely wound ones front to back. Across a
