@@ -251,6 +251,22 @@ TEST(SurfaceRebuild, KeepsOriginalFlagAndRecomputesTheRest) {
   EXPECT_EQ(validate(s), "");
 }
 
+// A topology edit appends a vertex and a face and leaves vertex_flags short: rebuild fills it in.
+TEST(SurfaceRebuild, AppendedVertexIsNotOriginal) {
+  FractureSurface s = example_sheet(3);
+  const std::uint32_t a = vertex_at(s, {0, 0, 0}), b = vertex_at(s, {1, 0, 0});
+  s.positions.push_back({0.5f, -1.0f, 0.0f, 1.0f});
+  s.faces.push_back({a, 9, b, 0});  // normal +z, like the rest of the sheet
+  s.face_pieces.push_back({1, 0});
+  rebuild_adjacency(s);
+  ASSERT_EQ(validate(s), "");
+  ASSERT_EQ(s.vertex_flags.size(), 10u);
+  EXPECT_EQ(s.vertex_flags[9], std::uint32_t(kVertexBoundary));
+  EXPECT_EQ(s.edge_special[find_edge(s, a, b)], kEdgeRegular);
+  EXPECT_EQ(s.piece_vertex_counts, (std::vector<std::uint32_t>{10, 10}));
+  EXPECT_EQ(s.component_count, 2u);
+}
+
 TEST(SurfaceRebuild, RejectsOutOfRangeIndices) {
   FractureSurface s = example_sheet(3);
   s.faces[1].z = 40;
