@@ -39,13 +39,24 @@ std::vector<PassShape> pass_shapes(const std::vector<glm::uvec3>& level_dims) {
   return passes;
 }
 
-void check_limits(const VulkanContext& context, std::size_t elements) {
+// A pass dispatches one row of workgroups per z plane of its output (see the shader).
+std::uint32_t plane_groups(glm::uvec3 d) {
+  return std::uint32_t((std::size_t(d.x) * d.y + FRACREF_WORKGROUP - 1) / FRACREF_WORKGROUP);
+}
+
+void check_limits(const VulkanContext& context, glm::uvec3 dims) {
   const VkPhysicalDeviceLimits& lim = context.limits();
-  if (elements > lim.maxTexelBufferElements || elements * sizeof(float) > lim.maxStorageBufferRange) {
-    throw RunError("a pyramid level of " + std::to_string(elements) + " nodes exceeds the limits of " +
-                   context.describe() + " (maxTexelBufferElements " + std::to_string(lim.maxTexelBufferElements) +
-                   ", maxStorageBufferRange " + std::to_string(lim.maxStorageBufferRange) +
-                   " bytes): use the CPU backend");
+  const std::size_t elements = count(dims);
+  const std::size_t widest = std::size_t((dims.x + 1) / 2) * dims.y;  // the x pass of level 0
+  if (elements > lim.maxTexelBufferElements || elements * sizeof(float) > lim.maxStorageBufferRange ||
+      (widest + FRACREF_WORKGROUP - 1) / FRACREF_WORKGROUP > lim.maxComputeWorkGroupCount[0] ||
+      dims.z > lim.maxComputeWorkGroupCount[1]) {
+    throw RunError("a " + std::to_string(dims.x) + "x" + std::to_string(dims.y) + "x" + std::to_string(dims.z) +
+                   " pyramid base exceeds the limits of " + context.describe() + " (maxTexelBufferElements " +
+                   std::to_string(lim.maxTexelBufferElements) + ", maxStorageBufferRange " +
+                   std::to_string(lim.maxStorageBufferRange) + " bytes, maxComputeWorkGroupCount " +
+                   std::to_string(lim.maxComputeWorkGroupCount[0]) + "x" +
+                   std::to_string(lim.maxComputeWorkGroupCount[1]) + "): use the CPU backend");
   }
 }
 
@@ -107,21 +118,22 @@ void VulkanPyramid::prepare(glm::uvec3 dims) {
     return;
   }
   const std::vector<glm::uvec3> level_dims = pyramid_level_dims(dims, options_.levels);
-  check_limits(context_, count(dims));
+  check_limits(context_, dims);
   allocate(level_dims);
   write_descriptors(level_dims);
   record(level_dims);
   recorded_dims_ = dims;
   recorded_options_ = options_;
+  built_ = false;
   ++record_count_;
 }
 
 std::vector<Grid3> VulkanPyramid::build(const Grid3& base) {
   check_pyramid_input(base, options_);
-  if (options_.levels == 1) return {base};
   prepare(base.dims);
   std::memcpy(levels_[0].data(), base.values.data(), base.values.size() * sizeof(float));
-  context_.submit_and_wait(commands_);
+  if (options_.levels > 1) context_.submit_and_wait(commands_);
+  built_ = true;
   std::vector<Grid3> out{base};
   for (int l = 1; l < options_.levels; ++l) {
     Grid3 level;
@@ -160,6 +172,8 @@ void VulkanPyramid::write_descriptors(const std::vector<glm::uvec3>& dims) {
   destroy_views();
   vk_check(vkResetDescriptorPool(context_.device(), pool_, 0), "vkResetDescriptorPool");
   const std::vector<PassShape> passes = pass_shapes(dims);
+  sets_.clear();
+  if (passes.empty()) return;  // a one-level pyramid runs no pass
   const std::vector<VkDescriptorSetLayout> layouts(passes.size(), blur_->set_layout());
   sets_.resize(passes.size());
   auto alloc = vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
@@ -204,21 +218,25 @@ void VulkanPyramid::record(const std::vector<glm::uvec3>& dims) {
   vkCmdBindPipeline(commands_, VK_PIPELINE_BIND_POINT_COMPUTE, blur_->handle());
   const std::vector<PassShape> passes = pass_shapes(dims);
   const std::uint32_t radius = std::uint32_t(gaussian_weights(options_.sigma).size() / 2);
-  const std::uint32_t max_x = context_.limits().maxComputeWorkGroupCount[0];
   for (std::size_t i = 0; i < passes.size(); ++i) {
     const PassShape& p = passes[i];
     const gpu::BlurParams params{{p.src, std::uint32_t(p.axis)}, {p.dst, radius}};
     vkCmdBindDescriptorSets(commands_, VK_PIPELINE_BIND_POINT_COMPUTE, blur_->layout(), 0, 1, &sets_[i], 0,
                             nullptr);
     vkCmdPushConstants(commands_, blur_->layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params), &params);
-    const std::size_t groups = (count(p.dst) + FRACREF_WORKGROUP - 1) / FRACREF_WORKGROUP;
-    const std::uint32_t gx = std::uint32_t(std::min<std::size_t>(groups, max_x));
-    vkCmdDispatch(commands_, gx, std::uint32_t((groups + gx - 1) / gx), 1);
+    vkCmdDispatch(commands_, plane_groups(p.dst), p.dst.z, 1);
     const bool last = i + 1 == passes.size();
     compute_barrier(commands_, last ? VK_ACCESS_HOST_READ_BIT : VK_ACCESS_SHADER_READ_BIT,
                     last ? VK_PIPELINE_STAGE_HOST_BIT : VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
   }
   vk_check(vkEndCommandBuffer(commands_), "vkEndCommandBuffer");
+}
+
+const VulkanBuffer& VulkanPyramid::level_buffer(int level) const {
+  if (!built_ || level < 0 || level >= recorded_options_.levels) {
+    throw RunError("VulkanPyramid::level_buffer(" + std::to_string(level) + "): no such level has been built");
+  }
+  return levels_[level];
 }
 
 void VulkanPyramid::destroy_views() noexcept {

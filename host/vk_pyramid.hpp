@@ -40,6 +40,12 @@ class VulkanPyramid {
   ///        Vulkan fails.
   std::vector<Grid3> build(const Grid3& base);
 
+  /// The resident buffer holding level `level` of the last build (floats, x fastest, in the
+  /// first 4 * nodes bytes of its capacity), for kernels that read the pyramid on the device:
+  /// bind it as a uniform texel buffer or storage buffer. Valid until the next prepare or build
+  /// with other dims or options. \throw RunError when the last build had no such level.
+  const VulkanBuffer& level_buffer(int level) const;
+
   /// How many times the command buffer has been recorded (for tests and diagnostics).
   std::size_t record_count() const { return record_count_; }
 
@@ -62,6 +68,7 @@ class VulkanPyramid {
   glm::uvec3 recorded_dims_{0, 0, 0};
   PyramidOptions recorded_options_{.levels = 0};
   std::size_t record_count_ = 0;
+  bool built_ = false;  // the level buffers hold the pyramid of the recorded shape
 };
 
 }  // namespace fracref

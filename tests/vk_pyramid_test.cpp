@@ -149,6 +149,21 @@ TEST_F(VulkanPyramidTest, ReRecordsWhenDimsOrOptionsChange) {
   EXPECT_EQ(gpu.record_count(), 5u);
 }
 
+TEST_F(VulkanPyramidTest, LevelsStayResidentForLaterKernels) {
+  VulkanPyramid gpu(*context_, {.levels = 4});
+  EXPECT_THROW(gpu.level_buffer(0), RunError);
+  const Grid3 base = random_grid({21, 16, 11}, 8);
+  const auto levels = gpu.build(base);
+  for (int l = 0; l < 4; ++l) {
+    const VulkanBuffer& buffer = gpu.level_buffer(l);
+    ASSERT_GE(buffer.capacity(), levels[l].values.size() * sizeof(float));
+    EXPECT_EQ(0, std::memcmp(buffer.data(), levels[l].values.data(), levels[l].values.size() * sizeof(float)));
+  }
+  EXPECT_THROW(gpu.level_buffer(4), RunError);
+  gpu.prepare({5, 5, 5});  // another shape: the buffers no longer hold this pyramid
+  EXPECT_THROW(gpu.level_buffer(0), RunError);
+}
+
 TEST_F(VulkanPyramidTest, RejectsWhatTheCpuRejects) {
   EXPECT_THROW(VulkanPyramid(*context_, {.levels = 9}), InputError);
   VulkanPyramid gpu(*context_);
