@@ -1,0 +1,254 @@
+// Conservative CCD: single queries with exact contacts and clear misses, the iteration cap, and
+// the mesh-level searches (self and against a static mesh).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "geom/ccd.hpp"
+#include "geom/shapes.hpp"
+#include "util/error.hpp"
+
+namespace {
+
+using fracref::CcdKind;
+using fracref::CcdOptions;
+using fracref::CcdPair;
+using glm::dvec3;
+
+TEST(GeomCcd, VertexTriangleBasics) {
+  const dvec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  // Through the face.
+  EXPECT_TRUE(fracref::ccd_vertex_triangle({0.2, 0.2, 1}, a, b, c, {0.2, 0.2, -1}, a, b, c));
+  // Ends exactly on the face; touches an edge; touches a corner.
+  EXPECT_TRUE(fracref::ccd_vertex_triangle({0.2, 0.2, 1}, a, b, c, {0.2, 0.2, 0}, a, b, c));
+  EXPECT_TRUE(fracref::ccd_vertex_triangle({0.5, 0.5, 1}, a, b, c, {0.5, 0.5, -1}, a, b, c));
+  EXPECT_TRUE(fracref::ccd_vertex_triangle({0, 0, 1}, a, b, c, {0, 0, -1}, a, b, c));
+  // Passes beside the face; stops short of it; moves parallel above it.
+  EXPECT_FALSE(fracref::ccd_vertex_triangle({0.6, 0.6, 1}, a, b, c, {0.6, 0.6, -1}, a, b, c));
+  EXPECT_FALSE(fracref::ccd_vertex_triangle({0.2, 0.2, 1}, a, b, c, {0.2, 0.2, 1e-3}, a, b, c));
+  EXPECT_FALSE(fracref::ccd_vertex_triangle({-1, 0.2, 1e-3}, a, b, c, {2, 0.2, 1e-3}, a, b, c));
+  // ... unless closer than min_distance.
+  CcdOptions near;
+  near.min_distance = 2e-3;
+  EXPECT_TRUE(fracref::ccd_vertex_triangle({0.2, 0.2, 1}, a, b, c, {0.2, 0.2, 1e-3}, a, b, c, near));
+  EXPECT_TRUE(fracref::ccd_vertex_triangle({-1, 0.2, 1e-3}, a, b, c, {2, 0.2, 1e-3}, a, b, c, near));
+  // The triangle moves onto a resting point.
+  EXPECT_TRUE(fracref::ccd_vertex_triangle({0.3, 0.3, 0}, a + dvec3(0, 0, 1), b + dvec3(0, 0, 1), c + dvec3(0, 0, 1),
+                                           {0.3, 0.3, 0}, a - dvec3(0, 0, 1), b - dvec3(0, 0, 1), c - dvec3(0, 0, 1)));
+}
+
+TEST(GeomCcd, EdgeEdgeBasics) {
+  // Edge along x at z = 1 dropping through an edge along y at z = 0.
+  EXPECT_TRUE(fracref::ccd_edge_edge({-1, 0, 1}, {1, 0, 1}, {0, -1, 0}, {0, 1, 0}, {-1, 0, -1}, {1, 0, -1}, {0, -1, 0},
+                                     {0, 1, 0}));
+  // Dropping only to z = 1e-4; moving apart; passing beside the end of the other edge.
+  EXPECT_FALSE(fracref::ccd_edge_edge({-1, 0, 1}, {1, 0, 1}, {0, -1, 0}, {0, 1, 0}, {-1, 0, 1e-4}, {1, 0, 1e-4},
+                                      {0, -1, 0}, {0, 1, 0}));
+  EXPECT_FALSE(fracref::ccd_edge_edge({-1, 0, 1}, {1, 0, 1}, {0, -1, 0}, {0, 1, 0}, {-1, 0, 2}, {1, 0, 2}, {0, -1, -1},
+                                      {0, 1, -1}));
+  EXPECT_FALSE(fracref::ccd_edge_edge({-1, 2, 1}, {1, 2, 1}, {0, -1, 0}, {0, 1, 0}, {-1, 2, -1}, {1, 2, -1}, {0, -1, 0},
+                                      {0, 1, 0}));
+  // Parallel edges sliding onto each other (a whole segment of contact).
+  EXPECT_TRUE(fracref::ccd_edge_edge({0, 0, 1}, {1, 0, 1}, {0.5, 0, 0}, {2, 0, 0}, {0, 0, 0}, {1, 0, 0}, {0.5, 0, 0},
+                                     {2, 0, 0}));
+  // Touching end to end at t = 1 exactly.
+  EXPECT_TRUE(fracref::ccd_edge_edge({-2, 0, 0}, {-1, 0, 0}, {1, 0, 0}, {2, 0, 0}, {-1, 0, 0}, {0, 0, 0}, {0, 0, 0},
+                                     {1, 0, 0}));
+}
+
+dvec3 random_int_point(std::mt19937_64& rng) {
+  std::uniform_int_distribution<int> d(-4, 4);
+  return dvec3(d(rng), d(rng), d(rng));
+}
+
+// Exact contacts built from dyadic numbers: at t = 1/2 the point sits exactly at barycentric
+// weights (1/4, 1/4, 1/2) (or on an edge, or a corner) of the triangle. Every one must be found.
+TEST(GeomCcd, ExactVertexTriangleContactsAreAlwaysFound) {
+  std::mt19937_64 rng(21);
+  const double weights[4][3] = {{0.25, 0.25, 0.5}, {0.5, 0.5, 0}, {1, 0, 0}, {0.125, 0.375, 0.5}};
+  for (int it = 0; it < 4000; ++it) {
+    dvec3 x0[4], x1[4];
+    for (int k = 1; k < 4; ++k) {
+      x0[k] = random_int_point(rng);
+      x1[k] = random_int_point(rng);
+    }
+    const double* w = weights[it % 4];
+    dvec3 mid(0.0);
+    for (int k = 1; k < 4; ++k) mid += w[k - 1] * 0.5 * (x0[k] + x1[k]);
+    const dvec3 v = random_int_point(rng);
+    x0[0] = mid - 0.5 * v;
+    x1[0] = mid + 0.5 * v;
+    ASSERT_TRUE(fracref::ccd_vertex_triangle(x0[0], x0[1], x0[2], x0[3], x1[0], x1[1], x1[2], x1[3])) << it;
+  }
+}
+
+TEST(GeomCcd, ExactEdgeEdgeContactsAreAlwaysFound) {
+  std::mt19937_64 rng(22);
+  const double params[4][2] = {{0.5, 0.5}, {0, 0.25}, {1, 1}, {0.75, 0}};
+  for (int it = 0; it < 4000; ++it) {
+    dvec3 x0[4], x1[4];
+    for (int k = 0; k < 3; ++k) {
+      x0[k] = random_int_point(rng);
+      x1[k] = random_int_point(rng);
+    }
+    // Choose d so that at t = 1/2 the point at parameter s of edge ab equals the point at
+    // parameter r of edge cd: d(1/2) = c(1/2) + (P - c(1/2)) / r, exact for the dyadics used.
+    const double s = params[it % 4][0], r = std::max(params[it % 4][1], 0.5);
+    const dvec3 a = 0.5 * (x0[0] + x1[0]), b = 0.5 * (x0[1] + x1[1]), c = 0.5 * (x0[2] + x1[2]);
+    const dvec3 p = a + s * (b - a);
+    const dvec3 dmid = c + (p - c) / r;
+    const dvec3 v = random_int_point(rng);
+    x0[3] = dmid - 0.5 * v;
+    x1[3] = dmid + 0.5 * v;
+    ASSERT_TRUE(fracref::ccd_edge_edge(x0[0], x0[1], x0[2], x0[3], x1[0], x1[1], x1[2], x1[3])) << it;
+  }
+}
+
+TEST(GeomCcd, IterationCapAnswersCollision) {
+  const dvec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  CcdOptions capped;
+  capped.max_iterations = 1;
+  fracref::CcdStats stats;
+  // A miss that needs refinement; capped at one box it becomes a (conservative) collision.
+  EXPECT_FALSE(fracref::ccd_vertex_triangle({0.6, 0.6, 1}, a, b, c, {0.6, 0.6, -1}, a, b, c, {}, &stats));
+  EXPECT_FALSE(stats.hit_cap);
+  EXPECT_GT(stats.boxes, 1);
+  EXPECT_TRUE(fracref::ccd_vertex_triangle({0.6, 0.6, 1}, a, b, c, {0.6, 0.6, -1}, a, b, c, capped, &stats));
+  EXPECT_TRUE(stats.hit_cap);
+}
+
+// Sheet of n x n cells in the plane z = height over [0,1]^2, shifted by `shift` in x and y.
+fracref::TriangleSoup sheet(double height, double shift, int n) {
+  return fracref::make_grid_sheet({shift, shift, height}, {1, 0, 0}, {0, 1, 0}, n, n);
+}
+
+// Two sheets in one mesh; x1 moves sheet A by da and sheet B by db.
+struct TwoSheets {
+  std::vector<dvec3> x0, x1;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::uint32_t split = 0;  // first vertex of sheet B
+};
+
+TwoSheets two_sheets(const dvec3& da, const dvec3& db, int n) {
+  const auto a = sheet(0.0, 0.0, n), b = sheet(0.5, 0.013, n);
+  TwoSheets s;
+  s.x0 = a.positions;
+  s.triangles = a.triangles;
+  s.split = static_cast<std::uint32_t>(a.positions.size());
+  s.x0.insert(s.x0.end(), b.positions.begin(), b.positions.end());
+  for (auto t : b.triangles) s.triangles.push_back({t[0] + s.split, t[1] + s.split, t[2] + s.split});
+  for (std::size_t v = 0; v < s.x0.size(); ++v) s.x1.push_back(s.x0[v] + (v < s.split ? da : db));
+  return s;
+}
+
+TEST(GeomCcd, SheetsMovingThroughEachOtherAreCaught) {
+  const auto s = two_sheets({0, 0, 0.3}, {0, 0, -0.3}, 12);
+  fracref::StepCcdOptions options;
+  const auto pairs = fracref::find_step_collisions(s.x0, s.x1, s.triangles, options);
+  ASSERT_FALSE(pairs.empty());
+  bool vertex_triangle = false, edge_edge = false;
+  for (const CcdPair& p : pairs) {
+    vertex_triangle |= p.kind == CcdKind::vertex_triangle;
+    edge_edge |= p.kind == CcdKind::edge_edge;
+    // Every pair involves both sheets.
+    const bool first_in_a = p.vertices[0] < s.split;
+    const bool last_in_a = p.vertices[3] < s.split;
+    EXPECT_NE(first_in_a, last_in_a);
+  }
+  EXPECT_TRUE(vertex_triangle);
+  EXPECT_TRUE(edge_edge);
+  // Every interior vertex of sheet A passes through sheet B and must appear.
+  std::vector<char> seen(s.x0.size(), 0);
+  for (const CcdPair& p : pairs)
+    if (p.kind == CcdKind::vertex_triangle) seen[p.vertices[0]] = 1;
+  for (std::uint32_t v = 0; v < s.split; ++v) {
+    const dvec3 x = s.x0[v];
+    if (x.x > 0.02 && x.y > 0.02) {
+      EXPECT_TRUE(seen[v]) << v;
+    }
+  }
+  EXPECT_TRUE(std::is_sorted(pairs.begin(), pairs.end()));
+  options.threads = 1;
+  EXPECT_EQ(fracref::find_step_collisions(s.x0, s.x1, s.triangles, options), pairs);
+}
+
+TEST(GeomCcd, SheetsMovingApartOrRigidlyAreNotCaught) {
+  const auto apart = two_sheets({0, 0, -0.3}, {0, 0, 0.3}, 12);
+  EXPECT_TRUE(fracref::find_step_collisions(apart.x0, apart.x1, apart.triangles).empty());
+  const auto sliding = two_sheets({0.2, 0.1, 0.05}, {-0.1, 0.3, 0.2}, 12);  // both move, gap stays
+  EXPECT_TRUE(fracref::find_step_collisions(sliding.x0, sliding.x1, sliding.triangles).empty());
+  // A closed sphere shrinking a little: neighbours stay apart, shared-vertex pairs are skipped.
+  const auto sphere = fracref::make_uv_sphere({0, 0, 0}, 1.0, 30, 40);
+  std::vector<dvec3> x1 = sphere.positions;
+  for (auto& p : x1) p *= 0.97;
+  EXPECT_TRUE(fracref::find_step_collisions(sphere.positions, x1, sphere.triangles).empty());
+}
+
+TEST(GeomCcd, FoldingSheetIsCaught) {
+  // The right half of a sheet starts folded up at 45 degrees about the line x = 0.5 and ends
+  // folded under the left half: its vertices cross the left half on their straight paths.
+  const auto m = sheet(0.0, 0.0, 10);
+  std::vector<dvec3> x0 = m.positions, x1 = m.positions;
+  for (std::size_t v = 0; v < x0.size(); ++v) {
+    const dvec3 p = m.positions[v];
+    if (p.x <= 0.5) continue;
+    x0[v] = dvec3(p.x, p.y, p.x - 0.5);
+    x1[v] = dvec3(1.03 - p.x, p.y + 0.011, -0.2 * (p.x - 0.5) - 0.01);
+  }
+  const auto pairs = fracref::find_step_collisions(x0, x1, m.triangles);
+  ASSERT_FALSE(pairs.empty());
+  // The vertex at x = 0.9 crosses z = 0 near x = 0.27, inside the left half.
+  bool far_vertex = false;
+  for (const CcdPair& p : pairs)
+    far_vertex |= p.kind == CcdKind::vertex_triangle && std::abs(m.positions[p.vertices[0]].x - 0.9) < 1e-9;
+  EXPECT_TRUE(far_vertex);
+  // Without the fold-through (ending folded up at 90 degrees) nothing collides.
+  for (std::size_t v = 0; v < x0.size(); ++v)
+    if (m.positions[v].x > 0.5) x1[v] = dvec3(0.5, m.positions[v].y, m.positions[v].x);
+  EXPECT_TRUE(fracref::find_step_collisions(x0, x1, m.triangles).empty());
+}
+
+TEST(GeomCcd, MovingAgainstStaticMesh) {
+  const auto box = fracref::make_box({0, 0, 0}, {1, 1, 1}, 3);
+  const auto s = sheet(1.5, -0.25, 7);  // covers the box from above, bigger than it
+  std::vector<dvec3> down = s.positions, up = s.positions;
+  for (auto& p : down) p.z -= 1.0;  // through the top face
+  for (auto& p : up) p.z += 1.0;
+  const auto pairs = fracref::find_step_collisions_with_static(s.positions, down, s.triangles, box.positions, box.triangles);
+  bool kinds[3] = {false, false, false};
+  for (const CcdPair& p : pairs) kinds[static_cast<int>(p.kind)] = true;
+  EXPECT_TRUE(kinds[0] && kinds[1] && kinds[2]);  // vertex-triangle, triangle-vertex, edge-edge
+  // The sheet ends at z = 0.5: box vertices at z = 2/3 and 1 are hit, those at 0 and 1/3 not.
+  for (const CcdPair& p : pairs) {
+    if (p.kind == CcdKind::triangle_vertex) {
+      EXPECT_GT(box.positions[p.vertices[0]].z, 0.5);
+    }
+  }
+  EXPECT_TRUE(fracref::find_step_collisions_with_static(s.positions, up, s.triangles, box.positions, box.triangles).empty());
+  // Stopping 1e-3 above the top: clear without min_distance, a collision with it.
+  std::vector<dvec3> short_of = s.positions;
+  for (auto& p : short_of) p.z = 1.001;
+  EXPECT_TRUE(fracref::find_step_collisions_with_static(s.positions, short_of, s.triangles, box.positions, box.triangles)
+                  .empty());
+  fracref::StepCcdOptions near;
+  near.ccd.min_distance = 2e-3;
+  EXPECT_FALSE(fracref::find_step_collisions_with_static(s.positions, short_of, s.triangles, box.positions,
+                                                         box.triangles, near)
+                   .empty());
+}
+
+TEST(GeomCcd, BadInputIsRejected) {
+  const auto m = sheet(0.0, 0.0, 2);
+  std::vector<dvec3> x1 = m.positions;
+  x1.pop_back();
+  EXPECT_THROW(fracref::find_step_collisions(m.positions, x1, m.triangles), fracref::InputError);
+  x1 = m.positions;
+  x1[3].y = NAN;
+  EXPECT_THROW(fracref::find_step_collisions(m.positions, x1, m.triangles), fracref::InputError);
+  auto tris = m.triangles;
+  tris[1][2] = 999;
+  EXPECT_THROW(fracref::find_step_collisions(m.positions, m.positions, tris), fracref::InputError);
+}
+
+}  // namespace
