@@ -84,6 +84,32 @@ std::vector<VkExtensionProperties> instance_extensions(const char* layer) {
   });
 }
 
+// The instance layers and extensions to enable: portability enumeration where the loader has
+// it (MoltenVK), and the validation layer with debug utils (and synchronization validation)
+// when asked for and installed.
+struct InstanceSetup {
+  std::vector<const char*> layers, extensions;
+  bool portability = false, sync_validation = false;
+};
+
+InstanceSetup instance_setup(bool validation) {
+  InstanceSetup s;
+  const auto available = instance_extensions(nullptr);
+  s.portability = has_extension(available, VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME);
+  if (s.portability) s.extensions.push_back(VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME);
+  if (!validation || !has_layer(kValidationLayer)) return s;
+  const auto layer_ext = instance_extensions(kValidationLayer);
+  if (!has_extension(available, VK_EXT_DEBUG_UTILS_EXTENSION_NAME) &&
+      !has_extension(layer_ext, VK_EXT_DEBUG_UTILS_EXTENSION_NAME)) {
+    return s;
+  }
+  s.layers.push_back(kValidationLayer);
+  s.extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  s.sync_validation = has_extension(layer_ext, VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
+  if (s.sync_validation) s.extensions.push_back(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
+  return s;
+}
+
 DeviceCandidate describe_candidate(VkPhysicalDevice pd) {
   VkPhysicalDeviceProperties props;
   vkGetPhysicalDeviceProperties(pd, &props);
@@ -185,22 +211,8 @@ void VulkanContext::release() {
 }
 
 void VulkanContext::create_instance(bool validation) {
-  std::vector<const char*> layers, extensions;
-  const auto available = instance_extensions(nullptr);
-  const bool portability = has_extension(available, VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME);
-  if (portability) extensions.push_back(VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME);
-  bool sync_validation = false;
-  if (validation && has_layer(kValidationLayer)) {
-    const auto layer_ext = instance_extensions(kValidationLayer);
-    if (has_extension(available, VK_EXT_DEBUG_UTILS_EXTENSION_NAME) ||
-        has_extension(layer_ext, VK_EXT_DEBUG_UTILS_EXTENSION_NAME)) {
-      layers.push_back(kValidationLayer);
-      extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
-      sync_validation = has_extension(layer_ext, VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
-      if (sync_validation) extensions.push_back(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
-    }
-  }
-
+  const InstanceSetup setup = instance_setup(validation);
+  const std::vector<const char*>& layers = setup.layers;
   auto app = vk_struct<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
   app.pApplicationName = "fracref";
   app.pEngineName = "fracref";
@@ -218,15 +230,15 @@ void VulkanContext::create_instance(bool validation) {
   auto features = vk_struct<VkValidationFeaturesEXT>(VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT);
   features.enabledValidationFeatureCount = 1;
   features.pEnabledValidationFeatures = &sync;
-  if (sync_validation) messenger.pNext = &features;
+  if (setup.sync_validation) messenger.pNext = &features;
 
   auto info = vk_struct<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
   info.pApplicationInfo = &app;
   info.enabledLayerCount = std::uint32_t(layers.size());
   info.ppEnabledLayerNames = layers.data();
-  info.enabledExtensionCount = std::uint32_t(extensions.size());
-  info.ppEnabledExtensionNames = extensions.data();
-  if (portability) info.flags |= VK_INSTANCE_CREATE_ENUMERATE_PORTABILITY_BIT_KHR;
+  info.enabledExtensionCount = std::uint32_t(setup.extensions.size());
+  info.ppEnabledExtensionNames = setup.extensions.data();
+  if (setup.portability) info.flags |= VK_INSTANCE_CREATE_ENUMERATE_PORTABILITY_BIT_KHR;
   if (!layers.empty()) info.pNext = &messenger;
   const VkResult r = vkCreateInstance(&info, nullptr, &instance_);
   if (r == VK_ERROR_INCOMPATIBLE_DRIVER) throw RunError(kNoDriver);
