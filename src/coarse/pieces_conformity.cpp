@@ -2,6 +2,7 @@
 // interiors overlap without matching.
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "coarse/coarse_internal.hpp"
 
@@ -89,7 +90,10 @@ std::pair<std::int64_t, std::int64_t> find_nonconforming(const std::vector<glm::
       const bool i_hull = faces[i].other < 0, j_hull = faces[j].other < 0;
       if ((!i_hull && !j_hull) || shares_piece(faces[i], faces[j])) continue;
       if (!boxes_touch(boxes[i], boxes[j], plane_tolerance)) continue;
-      const std::uint32_t x = i_hull ? i : j, y = i_hull ? j : i;
+      // The hull face first; of two hull faces, the one of the lower piece (then face).
+      const bool i_first = i_hull && (!j_hull || std::make_pair(faces[i].piece, faces[i].face) <
+                                                     std::make_pair(faces[j].piece, faces[j].face));
+      const std::uint32_t x = i_first ? i : j, y = i_first ? j : i;
       if (coplanar_overlap(positions, faces[x].corners, faces[y].corners, plane_tolerance, overlap_tolerance) ||
           coplanar_overlap(positions, faces[y].corners, faces[x].corners, plane_tolerance, overlap_tolerance))
         return {x, y};
