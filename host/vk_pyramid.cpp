@@ -117,14 +117,17 @@ void VulkanPyramid::prepare(glm::uvec3 dims) {
       options_.sigma == recorded_options_.sigma) {
     return;
   }
-  const std::vector<glm::uvec3> level_dims = pyramid_level_dims(dims, options_.levels);
+  if (dims.x < 1 || dims.y < 1 || dims.z < 1) throw InputError("pyramid: grid dims must all be >= 1");
   check_limits(context_, dims);
+  // Forget the old recording first: if anything below throws, no stale replay can follow.
+  recorded_dims_ = {0, 0, 0};
+  built_ = false;
+  const std::vector<glm::uvec3> level_dims = pyramid_level_dims(dims, options_.levels);
   allocate(level_dims);
   write_descriptors(level_dims);
   record(level_dims);
   recorded_dims_ = dims;
   recorded_options_ = options_;
-  built_ = false;
   ++record_count_;
 }
 

@@ -30,8 +30,8 @@ class VulkanPyramid {
   const PyramidOptions& options() const { return options_; }
 
   /// Allocates the buffers and records the commands for bases of `dims` now (build does it on
-  /// demand), e.g. to keep that cost out of a timing. \throw RunError when Vulkan fails or the
-  /// grid exceeds the device's texel-buffer or storage-buffer limits.
+  /// demand), e.g. to keep that cost out of a timing. \throw InputError when a dim is 0;
+  /// RunError when Vulkan fails or the grid exceeds the device's buffer or dispatch limits.
   void prepare(glm::uvec3 dims);
 
   /// The pyramid of `base`: the same levels as build_pyramid_cpu(base, options()), to float

@@ -171,7 +171,21 @@ TEST_F(VulkanPyramidTest, RejectsWhatTheCpuRejects) {
   Grid3 bad = random_grid({4, 4, 4}, 1);
   bad.values.pop_back();
   EXPECT_THROW(gpu.build(bad), InputError);
+  EXPECT_THROW(gpu.prepare({4, 0, 4}), InputError);
   EXPECT_EQ(gpu.record_count(), 0u);
+}
+
+TEST_F(VulkanPyramidTest, GridsBeyondTheDeviceLimitsSayWhatToDo) {
+  VulkanPyramid gpu(*context_);
+  const glm::uvec3 tall(1, 1, context_->limits().maxComputeWorkGroupCount[1] + 1);
+  try {
+    gpu.prepare(tall);
+    FAIL() << "no error for a base of " << tall.z << " planes";
+  } catch (const RunError& e) {
+    EXPECT_NE(std::string(e.what()).find("use the CPU backend"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(gpu.record_count(), 0u);
+  expect_same_pyramid(build_pyramid_cpu(random_grid({6, 5, 4}, 2), {}), gpu.build(random_grid({6, 5, 4}, 2)));
 }
 
 }  // namespace
