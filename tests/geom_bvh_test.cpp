@@ -63,6 +63,29 @@ TEST(GeomBvh, BoxQueriesAndPairsMatchBruteForce) {
   EXPECT_TRUE(fracref::build_bvh(std::vector<Aabb>{}).nodes.empty());
 }
 
+TEST(GeomBvh, ThreadedBuildGivesTheSameAnswers) {
+  std::mt19937_64 rng(6);
+  const auto boxes = random_boxes(rng, 30000, 0.15);
+  fracref::BvhOptions two;
+  two.threads = 2;
+  const Bvh serial = fracref::build_bvh(boxes), threaded = fracref::build_bvh(boxes, two);
+  EXPECT_EQ(serial.items, threaded.items);
+  EXPECT_EQ(serial.nodes.size(), threaded.nodes.size());
+  const auto pairs = fracref::self_overlapping_pairs(serial, 1);
+  ASSERT_GT(pairs.size(), 1000u);
+  EXPECT_EQ(fracref::self_overlapping_pairs(threaded, 2), pairs);
+  std::vector<std::uint32_t> a, b;
+  const Aabb probe{dvec3(4, 4, 4), dvec3(6, 5, 7)};
+  fracref::query_box(serial, probe, a);
+  fracref::query_box(threaded, probe, b);
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  EXPECT_EQ(a, b);
+  std::size_t brute = 0;
+  for (const Aabb& box : boxes) brute += box.overlaps(probe);
+  EXPECT_EQ(a.size(), brute);
+}
+
 TEST(GeomBvh, ClosestPointMatchesBruteForce) {
   std::mt19937_64 rng(9);
   const auto soup = random_soup(rng, 400);

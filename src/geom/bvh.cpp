@@ -4,8 +4,9 @@
 #include <cmath>
 #include <numeric>
 #include <string>
+#include <thread>
 
-#include "geom/parallel.hpp"
+#include "geom/bvh_traverse.hpp"
 #include "util/error.hpp"
 
 namespace fracref {
@@ -17,30 +18,97 @@ struct BuildTask {
   std::uint32_t node, begin, end;
 };
 
-Aabb union_of(const Bvh& bvh, std::uint32_t begin, std::uint32_t end) {
-  Aabb box;
-  for (std::uint32_t k = begin; k < end; ++k) box.expand(bvh.item_boxes[bvh.items[k]]);
-  return box;
-}
+// An item's box centre (doubled: lo + hi) next to its id, so the splits touch one array.
+struct Ref {
+  dvec3 centre;
+  std::uint32_t id;
+};
 
 int longest_axis(const Aabb& box) {
   const dvec3 ext = box.hi - box.lo;
   return ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
 }
 
-// Splits the items of a node at the median of their box centres along the longest axis of the
-// centre bounds; ties by id keep the split deterministic.
-std::uint32_t median_split(Bvh& bvh, const std::vector<dvec3>& centres, std::uint32_t begin, std::uint32_t end) {
+// Splits the items of a node at the middle of their centre bounds along its longest axis (one
+// linear pass); when that leaves a side with less than a quarter of the items, splits at the
+// median instead (ties by id), which keeps the depth logarithmic. Deterministic.
+std::uint32_t split_node(std::vector<Ref>& refs, std::uint32_t begin, std::uint32_t end) {
   Aabb bounds;
-  for (std::uint32_t k = begin; k < end; ++k) bounds.expand(centres[bvh.items[k]]);
+  for (std::uint32_t k = begin; k < end; ++k) bounds.expand(refs[k].centre);
   const int axis = longest_axis(bounds);
-  const std::uint32_t mid = begin + (end - begin) / 2;
-  std::nth_element(bvh.items.begin() + begin, bvh.items.begin() + mid, bvh.items.begin() + end,
-                   [&](std::uint32_t a, std::uint32_t b) {
-                     const double ca = centres[a][axis], cb = centres[b][axis];
-                     return ca < cb || (ca == cb && a < b);
-                   });
-  return mid;
+  const double cut = 0.5 * (bounds.lo[axis] + bounds.hi[axis]);
+  const auto middle = std::partition(refs.begin() + begin, refs.begin() + end,
+                                     [axis, cut](const Ref& r) { return r.centre[axis] < cut; });
+  const auto mid = static_cast<std::uint32_t>(middle - refs.begin());
+  const std::uint32_t quarter = (end - begin) / 4;
+  if (mid - begin >= quarter && end - mid >= quarter && mid > begin && mid < end) return mid;
+  const std::uint32_t median = begin + (end - begin) / 2;
+  std::nth_element(refs.begin() + begin, refs.begin() + median, refs.begin() + end, [axis](const Ref& a, const Ref& b) {
+    const double ca = a.centre[axis], cb = b.centre[axis];
+    return ca < cb || (ca == cb && a.id < b.id);
+  });
+  return median;
+}
+
+// Children are created after their parent, so one backward sweep sets every box bottom-up.
+void fit_boxes(Bvh& bvh) {
+  for (std::size_t k = bvh.nodes.size(); k-- > 0;) {
+    BvhNode& node = bvh.nodes[k];
+    node.box = Aabb{};
+    if (node.count > 0) {
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) node.box.expand(bvh.item_boxes[bvh.items[i]]);
+    } else {
+      node.box.expand(bvh.nodes[node.first].box);
+      node.box.expand(bvh.nodes[node.first + 1].box);
+    }
+  }
+}
+
+// The nodes of the subtree over refs[begin, end), root first; inner nodes' `first` indexes
+// this vector, leaves' `first` indexes refs.
+std::vector<BvhNode> build_nodes(std::vector<Ref>& refs, std::uint32_t begin, std::uint32_t end, std::uint32_t leaf) {
+  std::vector<BvhNode> nodes(1);
+  nodes.reserve(2 * ((end - begin) / leaf + 1));
+  std::vector<BuildTask> stack{{0, begin, end}};
+  while (!stack.empty()) {
+    const BuildTask task = stack.back();
+    stack.pop_back();
+    if (task.end - task.begin <= leaf) {
+      nodes[task.node].first = task.begin;
+      nodes[task.node].count = task.end - task.begin;
+      continue;
+    }
+    const std::uint32_t mid = split_node(refs, task.begin, task.end);
+    const auto left = static_cast<std::uint32_t>(nodes.size());
+    nodes[task.node].first = left;
+    nodes[task.node].count = 0;
+    nodes.emplace_back();
+    nodes.emplace_back();
+    stack.push_back({left + 1, mid, task.end});
+    stack.push_back({left, task.begin, mid});
+  }
+  return nodes;
+}
+
+// The root over two subtrees built by build_nodes: children must be adjacent, so the two
+// subtree roots go to 1 and 2, then the rest of the left subtree, then the rest of the right.
+std::vector<BvhNode> join_subtrees(const std::vector<BvhNode>& left, const std::vector<BvhNode>& right) {
+  const auto nl = static_cast<std::uint32_t>(left.size());
+  auto left_index = [](std::uint32_t k) { return k == 0 ? 1u : k + 2u; };
+  auto right_index = [nl](std::uint32_t k) { return k == 0 ? 2u : k + 1u + nl; };
+  std::vector<BvhNode> nodes(1 + left.size() + right.size());
+  nodes[0] = {Aabb{}, 1, 0};
+  for (std::uint32_t k = 0; k < left.size(); ++k) {
+    BvhNode node = left[k];
+    if (node.count == 0) node.first = left_index(node.first);
+    nodes[left_index(k)] = node;
+  }
+  for (std::uint32_t k = 0; k < right.size(); ++k) {
+    BvhNode node = right[k];
+    if (node.count == 0) node.first = right_index(node.first);
+    nodes[right_index(k)] = node;
+  }
+  return nodes;
 }
 
 double box_distance2(const Aabb& box, const dvec3& p) {
@@ -111,31 +179,23 @@ Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options) {
   const auto n = static_cast<std::uint32_t>(boxes.size());
   if (n == 0) return bvh;
   const std::uint32_t leaf = std::max<std::uint32_t>(1, options.leaf_size);
-  bvh.items.resize(n);
-  std::iota(bvh.items.begin(), bvh.items.end(), 0u);
-  std::vector<dvec3> centres(n);
-  for (std::uint32_t i = 0; i < n; ++i) centres[i] = boxes[i].lo + boxes[i].hi;
-  bvh.nodes.reserve(2 * (n / leaf + 1));
-  bvh.nodes.emplace_back();
-  std::vector<BuildTask> stack{{0, 0, n}};
-  while (!stack.empty()) {
-    const BuildTask task = stack.back();
-    stack.pop_back();
-    bvh.nodes[task.node].box = union_of(bvh, task.begin, task.end);
-    if (task.end - task.begin <= leaf) {
-      bvh.nodes[task.node].first = task.begin;
-      bvh.nodes[task.node].count = task.end - task.begin;
-      continue;
-    }
-    const std::uint32_t mid = median_split(bvh, centres, task.begin, task.end);
-    const auto left = static_cast<std::uint32_t>(bvh.nodes.size());
-    bvh.nodes[task.node].first = left;
-    bvh.nodes[task.node].count = 0;
-    bvh.nodes.emplace_back();
-    bvh.nodes.emplace_back();
-    stack.push_back({left + 1, mid, task.end});
-    stack.push_back({left, task.begin, mid});
+  std::vector<Ref> refs(n);
+  for (std::uint32_t i = 0; i < n; ++i) refs[i] = {boxes[i].lo + boxes[i].hi, i};
+  if (options.threads < 2 || n < 8192 || n <= leaf) {
+    bvh.nodes = build_nodes(refs, 0, n, leaf);
+  } else {
+    // The two halves of the root touch disjoint ranges of refs: build them side by side and
+    // append them behind the root (the same tree as the serial build).
+    const std::uint32_t mid = split_node(refs, 0, n);
+    std::vector<BvhNode> right;
+    std::thread worker([&] { right = build_nodes(refs, mid, n, leaf); });
+    std::vector<BvhNode> left = build_nodes(refs, 0, mid, leaf);
+    worker.join();
+    bvh.nodes = join_subtrees(left, right);
   }
+  bvh.items.resize(n);
+  for (std::uint32_t k = 0; k < n; ++k) bvh.items[k] = refs[k].id;
+  fit_boxes(bvh);
   return bvh;
 }
 
@@ -217,39 +277,18 @@ ClosestPoint closest_point(const Bvh& bvh, const dvec3& query) {
 }
 
 std::vector<std::pair<std::uint32_t, std::uint32_t>> overlapping_pairs(const Bvh& a, const Bvh& b, int threads) {
-  const std::size_t n = a.item_boxes.size();
-  const std::size_t chunks = geom_detail::chunk_count(n);
-  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> parts(chunks);
-  geom_detail::parallel_chunks(n, chunks, threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
-    std::vector<std::uint32_t> hits;
-    for (std::size_t i = begin; i < end; ++i) {
-      hits.clear();
-      query_box(b, a.item_boxes[i], hits);
-      std::sort(hits.begin(), hits.end());
-      for (std::uint32_t j : hits) parts[c].emplace_back(static_cast<std::uint32_t>(i), j);
-    }
-  });
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
-  for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());
+  using Pair = std::pair<std::uint32_t, std::uint32_t>;
+  auto out = collect_overlaps<Pair>(a, b, false, threads,
+                                    [](std::uint32_t i, std::uint32_t j, std::vector<Pair>& o) { o.emplace_back(i, j); });
+  std::sort(out.begin(), out.end());
   return out;
 }
 
 std::vector<std::pair<std::uint32_t, std::uint32_t>> self_overlapping_pairs(const Bvh& bvh, int threads) {
-  const std::size_t n = bvh.item_boxes.size();
-  const std::size_t chunks = geom_detail::chunk_count(n);
-  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> parts(chunks);
-  geom_detail::parallel_chunks(n, chunks, threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
-    std::vector<std::uint32_t> hits;
-    for (std::size_t i = begin; i < end; ++i) {
-      hits.clear();
-      query_box(bvh, bvh.item_boxes[i], hits);
-      std::sort(hits.begin(), hits.end());
-      for (std::uint32_t j : hits)
-        if (j > i) parts[c].emplace_back(static_cast<std::uint32_t>(i), j);
-    }
-  });
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
-  for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());
+  using Pair = std::pair<std::uint32_t, std::uint32_t>;
+  auto out = collect_overlaps<Pair>(bvh, bvh, true, threads,
+                                    [](std::uint32_t i, std::uint32_t j, std::vector<Pair>& o) { o.emplace_back(i, j); });
+  std::sort(out.begin(), out.end());
   return out;
 }
 

@@ -51,11 +51,14 @@ struct Bvh {
 
 struct BvhOptions {
   std::uint32_t leaf_size = 4;  ///< most items in a leaf (>= 1)
+  int threads = 1;              ///< 2 or more builds the root's two subtrees side by side
 };
 
-/// Builds the tree over arbitrary boxes (item id = index in `boxes`) by recursive median
-/// split of the box centres along the longest axis of their bounds. Deterministic: ties are
-/// broken by item id. O(n log n). \pre finite boxes.
+/// Builds the tree over arbitrary boxes (item id = index in `boxes`) by recursive splits of
+/// the box centres along the longest axis of their bounds, at the middle of the bounds (or at
+/// the median, ties by item id, when the middle would leave less than a quarter on a side).
+/// Deterministic; the same tree (up to node numbering) for any thread count. O(n log n).
+/// \pre finite boxes.
 Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options = {});
 
 /// Builds the tree over the triangles of a mesh (item id = triangle index) and keeps a copy of

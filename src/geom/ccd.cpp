@@ -66,7 +66,8 @@ bool separated_along(const Direction& d, const dvec3 f[8]) {
   return positive || negative;
 }
 
-bool excluded(const Query& q, const dvec3 f[8], dvec3& lo, dvec3& hi) {
+// Separation along a coordinate axis; sets the image bounds lo, hi of the box.
+bool excluded_by_axes(const Query& q, const dvec3 f[8], dvec3& lo, dvec3& hi) {
   lo = hi = f[0];
   for (int k = 1; k < 8; ++k) {
     lo = glm::min(lo, f[k]);
@@ -74,6 +75,10 @@ bool excluded(const Query& q, const dvec3 f[8], dvec3& lo, dvec3& hi) {
   }
   for (int a = 0; a < 3; ++a)
     if (lo[a] > q.threshold[a] || hi[a] < -q.threshold[a]) return true;
+  return false;
+}
+
+bool excluded_by_directions(const Query& q, const dvec3 f[8]) {
   for (int k = 0; k < q.num_dirs; ++k)
     if (separated_along(q.dirs[k], f)) return true;
   return false;
@@ -167,12 +172,16 @@ Query make_query(bool vertex_triangle, const dvec3 x0[4], const dvec3 x1[4], con
   const double delta = std::max(0.0, options.min_distance);
   q.threshold = (q.err + dvec3(delta)) * (1.0 + 4.0 * kU);
   q.tolerance = options.tolerance;
-  add_direction(q, closest_difference(q, x0), delta);
-  add_direction(q, closest_difference(q, x1), delta);
   return q;
 }
 
-bool solve(const Query& q, const CcdOptions& options, CcdStats* stats) {
+// The directions cost more than a box: computed only for queries the axes do not settle.
+void add_directions(Query& q, double min_distance) {
+  add_direction(q, closest_difference(q, q.x0), min_distance);
+  add_direction(q, closest_difference(q, q.x1), min_distance);
+}
+
+bool solve(Query& q, const CcdOptions& options, CcdStats* stats) {
   thread_local std::vector<ParamBox> stack;
   stack.clear();
   stack.push_back({{0.0, 1.0}, {0.0, 1.0}, {0.0, 1.0}});
@@ -190,7 +199,9 @@ bool solve(const Query& q, const CcdOptions& options, CcdStats* stats) {
     if (q.vertex_triangle && b.u[0] + b.v[0] > 1.0) continue;
     dvec3 f[8], lo, hi;
     corner_values(q, b, f);
-    if (excluded(q, f, lo, hi)) continue;
+    if (excluded_by_axes(q, f, lo, hi)) continue;
+    if (boxes == 1) add_directions(q, std::max(0.0, options.min_distance));
+    if (excluded_by_directions(q, f)) continue;
     const dvec3 w = hi - lo;
     if (w.x <= q.tolerance && w.y <= q.tolerance && w.z <= q.tolerance) {
       collision = true;
@@ -216,13 +227,15 @@ bool ccd_vertex_triangle(const dvec3& p0, const dvec3& a0, const dvec3& b0, cons
                          const dvec3& a1, const dvec3& b1, const dvec3& c1, const CcdOptions& options,
                          CcdStats* stats) {
   const dvec3 x0[4] = {p0, a0, b0, c0}, x1[4] = {p1, a1, b1, c1};
-  return solve(make_query(true, x0, x1, options), options, stats);
+  Query q = make_query(true, x0, x1, options);
+  return solve(q, options, stats);
 }
 
 bool ccd_edge_edge(const dvec3& a0, const dvec3& b0, const dvec3& c0, const dvec3& d0, const dvec3& a1,
                    const dvec3& b1, const dvec3& c1, const dvec3& d1, const CcdOptions& options, CcdStats* stats) {
   const dvec3 x0[4] = {a0, b0, c0, d0}, x1[4] = {a1, b1, c1, d1};
-  return solve(make_query(false, x0, x1, options), options, stats);
+  Query q = make_query(false, x0, x1, options);
+  return solve(q, options, stats);
 }
 
 }  // namespace fracref

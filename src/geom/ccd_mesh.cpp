@@ -6,7 +6,7 @@
 
 #include "geom/bvh.hpp"
 #include "geom/ccd.hpp"
-#include "geom/parallel.hpp"
+#include "geom/bvh_traverse.hpp"
 #include "util/error.hpp"
 
 namespace fracref {
@@ -72,27 +72,6 @@ std::vector<Aabb> swept_boxes(const std::vector<dvec3>& x0, const std::vector<dv
 
 bool shares_vertex(const Edge& e, const Edge& f) { return e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1]; }
 
-// Runs `test(k, hits, out)` for every query element k in parallel chunks, with the candidates
-// of its box in `tree`; concatenates and sorts the pairs.
-template <class Test>
-std::vector<CcdPair> sweep(std::size_t count, const std::vector<Aabb>& query_boxes, const Bvh& tree, int threads,
-                           Test test) {
-  const std::size_t chunks = geom_detail::chunk_count(count, 128);
-  std::vector<std::vector<CcdPair>> parts(chunks);
-  geom_detail::parallel_chunks(count, chunks, threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
-    std::vector<std::uint32_t> hits;
-    for (std::size_t k = begin; k < end; ++k) {
-      hits.clear();
-      query_box(tree, query_boxes[k], hits);
-      std::sort(hits.begin(), hits.end());
-      test(static_cast<std::uint32_t>(k), hits, parts[c]);
-    }
-  });
-  std::vector<CcdPair> out;
-  for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());
-  return out;
-}
-
 std::vector<std::array<std::uint32_t, 1>> used_vertices(const Tris& tris, std::size_t n) {
   std::vector<char> used(n, 0);
   for (const auto& t : tris)
@@ -119,32 +98,30 @@ std::vector<CcdPair> find_step_collisions(const std::vector<dvec3>& x0, const st
   check_triangles(triangles, x0.size(), "mesh");
   const CcdOptions& ccd = options.ccd;
   const double grow = std::max(0.0, ccd.min_distance);
+  BvhOptions tree_options;
+  tree_options.threads = options.threads;
   const auto vertices = used_vertices(triangles, x0.size());
-  const Bvh tri_tree = build_bvh(swept_boxes(x0, x1, triangles, grow));
-  auto out = sweep(vertices.size(), swept_boxes(x0, x1, vertices, 0.0), tri_tree, options.threads,
-                   [&](std::uint32_t k, const std::vector<std::uint32_t>& hits, std::vector<CcdPair>& found) {
-                     const std::uint32_t v = vertices[k][0];
-                     for (std::uint32_t t : hits) {
-                       const auto& tri = triangles[t];
-                       if (tri[0] == v || tri[1] == v || tri[2] == v) continue;
-                       if (ccd_vertex_triangle(x0[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], x1[v], x1[tri[0]],
-                                               x1[tri[1]], x1[tri[2]], ccd))
-                         found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
-                     }
-                   });
+  const Bvh vertex_tree = build_bvh(swept_boxes(x0, x1, vertices, 0.0), tree_options);
+  const Bvh tri_tree = build_bvh(swept_boxes(x0, x1, triangles, grow), tree_options);
+  auto out = collect_overlaps<CcdPair>(
+      vertex_tree, tri_tree, false, options.threads, [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
+        const std::uint32_t v = vertices[k][0];
+        const auto& tri = triangles[t];
+        if (tri[0] == v || tri[1] == v || tri[2] == v) return;
+        if (ccd_vertex_triangle(x0[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], x1[v], x1[tri[0]], x1[tri[1]], x1[tri[2]], ccd))
+          found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
+      });
+  // Both sides grown by half the distance: boxes of edges closer than min_distance overlap.
   const auto edges = unique_edges(triangles);
-  const Bvh edge_tree = build_bvh(swept_boxes(x0, x1, edges, grow));
-  auto ee = sweep(edges.size(), swept_boxes(x0, x1, edges, 0.0), edge_tree, options.threads,
-                  [&](std::uint32_t k, const std::vector<std::uint32_t>& hits, std::vector<CcdPair>& found) {
-                    const Edge& e = edges[k];
-                    for (std::uint32_t j : hits) {
-                      const Edge& f = edges[j];
-                      if (j <= k || shares_vertex(e, f)) continue;
-                      if (ccd_edge_edge(x0[e[0]], x0[e[1]], x0[f[0]], x0[f[1]], x1[e[0]], x1[e[1]], x1[f[0]],
-                                        x1[f[1]], ccd))
-                        found.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});
-                    }
-                  });
+  const Bvh edge_tree = build_bvh(swept_boxes(x0, x1, edges, 0.5 * grow), tree_options);
+  auto ee = collect_overlaps<CcdPair>(
+      edge_tree, edge_tree, true, options.threads, [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
+        const Edge& e = edges[i];
+        const Edge& f = edges[j];
+        if (shares_vertex(e, f)) return;
+        if (ccd_edge_edge(x0[e[0]], x0[e[1]], x0[f[0]], x0[f[1]], x1[e[0]], x1[e[1]], x1[f[0]], x1[f[1]], ccd))
+          found.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});
+      });
   out.insert(out.end(), ee.begin(), ee.end());
   std::sort(out.begin(), out.end());
   return out;
@@ -163,47 +140,46 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
   check_triangles(static_triangles, static_positions.size(), "static");
   const CcdOptions& ccd = options.ccd;
   const double grow = std::max(0.0, ccd.min_distance);
+  BvhOptions tree_options;
+  tree_options.threads = options.threads;
   const auto& s = static_positions;
   // Moving vertices against static triangles.
   const auto moving_vertices = used_vertices(triangles, x0.size());
-  const Bvh static_tris = build_bvh(swept_boxes(s, s, static_triangles, grow));
-  auto out = sweep(moving_vertices.size(), swept_boxes(x0, x1, moving_vertices, 0.0), static_tris, options.threads,
-                   [&](std::uint32_t k, const std::vector<std::uint32_t>& hits, std::vector<CcdPair>& found) {
-                     const std::uint32_t v = moving_vertices[k][0];
-                     for (std::uint32_t t : hits) {
-                       const auto& tri = static_triangles[t];
-                       if (ccd_vertex_triangle(x0[v], s[tri[0]], s[tri[1]], s[tri[2]], x1[v], s[tri[0]], s[tri[1]],
-                                               s[tri[2]], ccd))
-                         found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
-                     }
-                   });
+  const Bvh moving_vertex_tree = build_bvh(swept_boxes(x0, x1, moving_vertices, 0.0), tree_options);
+  const Bvh static_tri_tree = build_bvh(swept_boxes(s, s, static_triangles, grow), tree_options);
+  auto out = collect_overlaps<CcdPair>(
+      moving_vertex_tree, static_tri_tree, false, options.threads,
+      [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
+        const std::uint32_t v = moving_vertices[k][0];
+        const auto& tri = static_triangles[t];
+        if (ccd_vertex_triangle(x0[v], s[tri[0]], s[tri[1]], s[tri[2]], x1[v], s[tri[0]], s[tri[1]], s[tri[2]], ccd))
+          found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
+      });
   // Static vertices against moving triangles.
   const auto static_vertices = used_vertices(static_triangles, s.size());
-  const Bvh moving_tris = build_bvh(swept_boxes(x0, x1, triangles, grow));
-  auto tv = sweep(static_vertices.size(), swept_boxes(s, s, static_vertices, 0.0), moving_tris, options.threads,
-                  [&](std::uint32_t k, const std::vector<std::uint32_t>& hits, std::vector<CcdPair>& found) {
-                    const std::uint32_t v = static_vertices[k][0];
-                    for (std::uint32_t t : hits) {
-                      const auto& tri = triangles[t];
-                      if (ccd_vertex_triangle(s[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], s[v], x1[tri[0]], x1[tri[1]],
-                                              x1[tri[2]], ccd))
-                        found.push_back(vertex_pair(CcdKind::triangle_vertex, v, tri, t));
-                    }
-                  });
+  const Bvh static_vertex_tree = build_bvh(swept_boxes(s, s, static_vertices, grow), tree_options);
+  const Bvh moving_tri_tree = build_bvh(swept_boxes(x0, x1, triangles, 0.0), tree_options);
+  auto tv = collect_overlaps<CcdPair>(
+      static_vertex_tree, moving_tri_tree, false, options.threads,
+      [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
+        const std::uint32_t v = static_vertices[k][0];
+        const auto& tri = triangles[t];
+        if (ccd_vertex_triangle(s[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], s[v], x1[tri[0]], x1[tri[1]], x1[tri[2]], ccd))
+          found.push_back(vertex_pair(CcdKind::triangle_vertex, v, tri, t));
+      });
   // Moving edges against static edges.
   const auto edges = unique_edges(triangles);
   const auto static_edges = unique_edges(static_triangles);
-  const Bvh static_edge_tree = build_bvh(swept_boxes(s, s, static_edges, grow));
-  auto ee = sweep(edges.size(), swept_boxes(x0, x1, edges, 0.0), static_edge_tree, options.threads,
-                  [&](std::uint32_t k, const std::vector<std::uint32_t>& hits, std::vector<CcdPair>& found) {
-                    const Edge& e = edges[k];
-                    for (std::uint32_t j : hits) {
-                      const Edge& f = static_edges[j];
-                      if (ccd_edge_edge(x0[e[0]], x0[e[1]], s[f[0]], s[f[1]], x1[e[0]], x1[e[1]], s[f[0]], s[f[1]],
-                                        ccd))
-                        found.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});
-                    }
-                  });
+  const Bvh moving_edge_tree = build_bvh(swept_boxes(x0, x1, edges, 0.0), tree_options);
+  const Bvh static_edge_tree = build_bvh(swept_boxes(s, s, static_edges, grow), tree_options);
+  auto ee = collect_overlaps<CcdPair>(
+      moving_edge_tree, static_edge_tree, false, options.threads,
+      [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
+        const Edge& e = edges[i];
+        const Edge& f = static_edges[j];
+        if (ccd_edge_edge(x0[e[0]], x0[e[1]], s[f[0]], s[f[1]], x1[e[0]], x1[e[1]], s[f[0]], s[f[1]], ccd))
+          found.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});
+      });
   out.insert(out.end(), tv.begin(), tv.end());
   out.insert(out.end(), ee.begin(), ee.end());
   std::sort(out.begin(), out.end());

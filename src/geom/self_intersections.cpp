@@ -18,7 +18,9 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> find_self_intersections(
       throw InputError("face " + std::to_string(t) + ": repeated vertex index " +
                        std::to_string(f[0] == f[1] || f[0] == f[2] ? f[0] : f[1]));
   }
-  const Bvh tree = build_bvh(positions, triangles);  // validates indices and coordinates
+  BvhOptions tree_options;
+  tree_options.threads = options.threads;
+  const Bvh tree = build_bvh(positions, triangles, tree_options);  // validates indices and coordinates
   const std::size_t n = triangles.size();
   const std::size_t chunks = geom_detail::chunk_count(n);
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> parts(chunks);
