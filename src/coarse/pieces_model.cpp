@@ -43,7 +43,16 @@ class PiecesBuilder {
     return point_text(m_.vertices[w.x]) + " " + point_text(m_.vertices[w.y]) + " " + point_text(m_.vertices[w.z]);
   }
   void check_input() const;
+  // Per welded cluster (indexed by the concatenated input positions): its representative, the
+  // last piece that used it, that piece's model vertex there, and its first (lowest) model vertex.
+  struct WeldState {
+    std::vector<std::uint32_t> rep;
+    std::vector<int> last_piece;
+    std::vector<std::uint32_t> model_of, first_model;
+  };
   void weld();
+  std::vector<std::uint32_t> piece_vertices(int p, std::size_t offset, WeldState& state);
+  void add_triangles(int p, const std::vector<std::uint32_t>& local_model);
   void add_polygons(int p, std::size_t first_tri);
   void check_closed(int p) const;
   void orient(int p);
@@ -88,43 +97,52 @@ void PiecesBuilder::weld() {
     all.insert(all.end(), piece.positions.begin(), piece.positions.end());
   }
   diagonal_ = bbox_diagonal(all);
-  const std::vector<std::uint32_t> rep = weld_points(all, options_.weld_tolerance * diagonal_);
-  std::vector<int> last_piece(all.size(), -1);
-  std::vector<std::uint32_t> model_of(all.size()), first_model(all.size(), UINT32_MAX);
+  WeldState state{weld_points(all, options_.weld_tolerance * diagonal_), std::vector<int>(all.size(), -1),
+                  std::vector<std::uint32_t>(all.size()), std::vector<std::uint32_t>(all.size(), UINT32_MAX)};
   for (int p = 0; p < int(in_.size()); ++p) {
-    const PieceInput& piece = in_[p];
-    std::vector<bool> used(piece.positions.size(), false);
-    for (const auto& t : piece.triangles) used[t[0]] = used[t[1]] = used[t[2]] = true;
-    std::vector<std::uint32_t> local_model(piece.positions.size());
-    for (std::uint32_t v = 0; v < piece.positions.size(); ++v) {
-      if (!used[v]) continue;
-      const std::uint32_t c = rep[offset[p] + v];
-      if (last_piece[c] != p) {
-        last_piece[c] = p;
-        model_of[c] = std::uint32_t(m_.vertices.size());
-        if (first_model[c] == UINT32_MAX) first_model[c] = model_of[c];
-        m_.vertices.push_back(piece.positions[v]);
-        m_.vertex_weld.push_back(first_model[c]);
-        copies_.emplace_back(first_model[c], p, model_of[c]);
-      }
-      local_model[v] = model_of[c];
-    }
     piece_begin_.push_back(tris_.size());
-    for (std::size_t t = 0; t < piece.triangles.size(); ++t) {
-      Tri tri;
-      tri.model = {local_model[piece.triangles[t][0]], local_model[piece.triangles[t][1]], local_model[piece.triangles[t][2]]};
-      tri.welded = {m_.vertex_weld[tri.model.x], m_.vertex_weld[tri.model.y], m_.vertex_weld[tri.model.z]};
-      tri.piece = p;
-      tri.polygon = piece.triangle_polygon.empty() ? std::uint32_t(t) : piece.triangle_polygon[t];
-      if (tri.welded.x == tri.welded.y || tri.welded.y == tri.welded.z || tri.welded.z == tri.welded.x)
-        throw piece_error(p, "face " + std::to_string(tri.polygon) + " is degenerate: corners coincide (" +
-                                 corners(tri.welded) + ")");
-      tris_.push_back(tri);
-    }
+    add_triangles(p, piece_vertices(p, offset[p], state));
     add_polygons(p, piece_begin_.back());
   }
   piece_begin_.push_back(tris_.size());
   std::sort(copies_.begin(), copies_.end());
+}
+
+// One model vertex per welded position the piece uses, in the order of its local vertices.
+std::vector<std::uint32_t> PiecesBuilder::piece_vertices(int p, std::size_t offset, WeldState& state) {
+  const PieceInput& piece = in_[p];
+  std::vector<bool> used(piece.positions.size(), false);
+  for (const auto& t : piece.triangles) used[t[0]] = used[t[1]] = used[t[2]] = true;
+  std::vector<std::uint32_t> local_model(piece.positions.size());
+  for (std::uint32_t v = 0; v < piece.positions.size(); ++v) {
+    if (!used[v]) continue;
+    const std::uint32_t c = state.rep[offset + v];
+    if (state.last_piece[c] != p) {
+      state.last_piece[c] = p;
+      state.model_of[c] = std::uint32_t(m_.vertices.size());
+      if (state.first_model[c] == UINT32_MAX) state.first_model[c] = state.model_of[c];
+      m_.vertices.push_back(piece.positions[v]);
+      m_.vertex_weld.push_back(state.first_model[c]);
+      copies_.emplace_back(state.first_model[c], p, state.model_of[c]);
+    }
+    local_model[v] = state.model_of[c];
+  }
+  return local_model;
+}
+
+void PiecesBuilder::add_triangles(int p, const std::vector<std::uint32_t>& local_model) {
+  const PieceInput& piece = in_[p];
+  for (std::size_t t = 0; t < piece.triangles.size(); ++t) {
+    Tri tri;
+    tri.model = {local_model[piece.triangles[t][0]], local_model[piece.triangles[t][1]], local_model[piece.triangles[t][2]]};
+    tri.welded = {m_.vertex_weld[tri.model.x], m_.vertex_weld[tri.model.y], m_.vertex_weld[tri.model.z]};
+    tri.piece = p;
+    tri.polygon = piece.triangle_polygon.empty() ? std::uint32_t(t) : piece.triangle_polygon[t];
+    if (tri.welded.x == tri.welded.y || tri.welded.y == tri.welded.z || tri.welded.z == tri.welded.x)
+      throw piece_error(p, "face " + std::to_string(tri.polygon) + " is degenerate: corners coincide (" +
+                               corners(tri.welded) + ")");
+    tris_.push_back(tri);
+  }
 }
 
 // Splits the piece's triangles into polygons: runs of one polygon index that form a fan
