@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <set>
+#include <tuple>
 #include <utility>
 
 #include "util/error.hpp"
@@ -62,27 +63,54 @@ std::uint32_t third_corner(const glm::uvec3& f, const Edge& e) {
   return f.x;
 }
 
+struct Candidate {
+  double dot = -2.0;
+  std::uint32_t face = std::uint32_t(-1);
+};
+
 // The uncut face around front edge e best aligned with its one cut face.
-std::uint32_t best_continuation(const FaceEdges& g, std::uint32_t e, const std::vector<glm::dvec3>& p,
-                                const std::vector<glm::uvec3>& faces, const std::vector<std::uint8_t>& cut) {
+Candidate best_continuation(const FaceEdges& g, std::uint32_t e, const std::vector<glm::dvec3>& p,
+                            const std::vector<glm::uvec3>& faces, const std::vector<std::uint8_t>& cut) {
   const glm::dvec3 a = p[g.edges[e].first], b = p[g.edges[e].second];
   std::uint32_t crack = 0;
   for (std::uint32_t k = g.offsets[e]; k < g.offsets[e + 1]; ++k)
     if (cut[g.edge_faces[k]]) crack = g.edge_faces[k];
   // The cut face as (a, b, c) and a continuation as (b, a, d): wound consistently across the edge.
   const glm::dvec3 n_crack = glm::normalize(glm::cross(b - a, p[third_corner(faces[crack], g.edges[e])] - a));
-  std::uint32_t best = std::uint32_t(-1);
-  double best_dot = -2.0;
+  Candidate best;
   for (std::uint32_t k = g.offsets[e]; k < g.offsets[e + 1]; ++k) {
     const std::uint32_t f = g.edge_faces[k];
     if (cut[f]) continue;
     const glm::dvec3 n = glm::normalize(glm::cross(a - b, p[third_corner(faces[f], g.edges[e])] - b));
     const double d = glm::dot(n, n_crack);
-    if (d > best_dot) best_dot = d, best = f;  // faces ascend within an edge: ties keep the lowest
+    if (d > best.dot) best = {d, f};  // faces ascend within an edge: ties keep the lowest
   }
-  if (best == std::uint32_t(-1)) throw RunError("virtual fracture: front edge has no uncut face");
+  if (best.face == std::uint32_t(-1)) throw RunError("virtual fracture: front edge has no uncut face");
   return best;
 }
+
+// Front edges ordered by their best candidate: best aligned first, then lowest face, then edge.
+class FrontQueue {
+ public:
+  explicit FrontQueue(std::size_t edges) : entry_(edges), queued_(edges, false) {}
+  void update(std::uint32_t e, const FaceEdges& g, const std::vector<glm::dvec3>& p, const std::vector<glm::uvec3>& faces,
+              const std::vector<std::uint8_t>& cut) {
+    if (queued_[e]) queue_.erase(entry_[e]), queued_[e] = false;
+    if (!g.is_front(e)) return;
+    const Candidate c = best_continuation(g, e, p, faces, cut);
+    entry_[e] = {-c.dot, c.face, e};
+    queue_.insert(entry_[e]);
+    queued_[e] = true;
+  }
+  bool empty() const { return queue_.empty(); }
+  std::uint32_t top_face() const { return std::get<1>(*queue_.begin()); }
+
+ private:
+  using Entry = std::tuple<double, std::uint32_t, std::uint32_t>;  // (-dot, face, edge)
+  std::set<Entry> queue_;
+  std::vector<Entry> entry_;
+  std::vector<bool> queued_;
+};
 
 }  // namespace
 
@@ -95,21 +123,20 @@ VirtualFractureStats extend_cracks(const std::vector<glm::dvec3>& positions,
       if (f.x >= positions.size() || f.y >= positions.size() || f.z >= positions.size())
         throw RunError("extend_cracks: face vertex out of range");
   FaceEdges g(interior_faces, hull_faces, cut);
-  std::set<std::uint32_t> front;  // edge ids ascend with (min, max): the documented order
-  for (std::uint32_t e = 0; e < g.edges.size(); ++e)
-    if (g.is_front(e)) front.insert(e);
+  FrontQueue front(g.edges.size());
+  for (std::uint32_t e = 0; e < g.edges.size(); ++e) front.update(e, g, positions, interior_faces, cut);
   VirtualFractureStats stats;
   while (!front.empty()) {
-    const std::uint32_t f = best_continuation(g, *front.begin(), positions, interior_faces, cut);
+    const std::uint32_t f = front.top_face();
     cut[f] = 1;
     ++stats.faces_added;
     const glm::uvec3 t = interior_faces[f];
     stats.area_added += 0.5 * glm::length(glm::cross(positions[t.y] - positions[t.x], positions[t.z] - positions[t.x]));
+    // Cutting f changes the cut count of its own edges only, and no other edge's candidates.
     for (int i = 0; i < 3; ++i) {
       const std::uint32_t e = g.find(make_edge(t[i], t[(i + 1) % 3]));
       ++g.cut_count[e];
-      if (g.is_front(e)) front.insert(e);
-      else front.erase(e);
+      front.update(e, g, positions, interior_faces, cut);
     }
   }
   return stats;

@@ -20,10 +20,12 @@ struct VirtualFractureStats {
 /// interior, and the faces around it close into a cycle (the tets around it). The crack front is
 /// the interior edges with exactly ONE cut face around them: there the material on both sides of
 /// the cut is still joined around the edge. (Two or more cut faces around an edge separate its
-/// fan; a cut edge on the hull reaches the exterior.) While a front edge remains, the lowest one
-/// (edges ordered by (min id, max id)) is closed by cutting the uncut face around it whose normal,
-/// wound consistently with the cut face across the edge, is closest to the cut face's normal
-/// (largest dot product of unit normals; ties to the lowest face id). Each step cuts one face, so
+/// fan; a cut edge on the hull reaches the exterior.) At a front edge, the candidate is the uncut
+/// face around it whose normal, wound consistently with the cut face across the edge, is closest
+/// to the cut face's normal (largest dot product of unit normals; ties to the lowest face id).
+/// While front edges remain, the best candidate over the whole front is cut (largest dot, then
+/// lowest face id, then lowest edge), so the crack grows where it continues most smoothly first
+/// and poorly aligned fronts are often closed by neighbouring growth. Each step cuts one face, so
 /// this ends; deterministic.
 ///
 /// \param positions  vertex positions (the ids of the faces index it)
