@@ -110,6 +110,39 @@ TEST(CoarseVirtual, CrackEndingOnAnotherCutIsCompletedToIt) {
   EXPECT_EQ(test::count_edges(m.surface, kEdgeNonManifold), 2);  // a T-junction with the floor
 }
 
+// A platform-independent hash in [-0.5, 0.5) (no <random> distributions: they differ by library).
+double jitter(std::uint32_t x) {
+  x *= 2654435761u;
+  x ^= x >> 13;
+  x *= 0x5bd1e995u;
+  x ^= x >> 15;
+  return double(x % 1000) / 1000.0 - 0.5;
+}
+
+TEST(CoarseVirtual, CrackInAnIrregularMeshFollowsItsPlane) {
+  // A 6x6x6 box whose inner vertices (except on the cut z = 3) are moved by up to 0.2 per axis.
+  const int n = 6;
+  TetMesh mesh = kuhn_box(n, n, n, [](glm::dvec3 c) { return c.z < 3 ? 0 : 1; });
+  for (std::uint32_t i = 0; i < mesh.vertices.size(); ++i) {
+    glm::dvec3& p = mesh.vertices[i];
+    if (p.x > 0 && p.x < n && p.y > 0 && p.y < n && p.z > 0 && p.z < n && p.z != 3)
+      p += 0.4 * glm::dvec3(jitter(3 * i), jitter(3 * i + 1), jitter(3 * i + 2));
+  }
+  CrackList cracks{"c", {{box_vertex(n, n, 0, 0, 4), box_vertex(n, n, 1, 0, 4), box_vertex(n, n, 1, 1, 4)}}, {1}};
+  const CoarseModel m = build_tet_model(mesh, &cracks);
+  EXPECT_EQ(validate(m.surface), "");
+  EXPECT_EQ(m.inverted_fixed, 0u);
+  EXPECT_EQ(m.piece_count, 3);
+  EXPECT_EQ(m.virtual_faces_added, 71u);  // the whole grid layer k = 4: 6 * 6 * 2 - 1 faces
+  int upper = 0;
+  for (std::size_t f = 0; f < m.surface.face_count(); ++f) {
+    if (m.surface.face_pieces[f] != glm::ivec2(2, 1)) continue;
+    ++upper;
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(m.surface_to_model_vertex[m.surface.faces[f][i]] / ((n + 1) * (n + 1)), 4u);
+  }
+  EXPECT_EQ(upper, 72);
+}
+
 TEST(CoarseVirtual, VirtualFractureOffRejectsANonSeparatingCrack) {
   CrackList cracks;
   cracks.file = "cracks.txt";
