@@ -1,0 +1,32 @@
+#pragma once
+// The boundary and collision constraints of one flow step (paper 4.4): boundary vertices are
+// projected back onto the exterior B; interior vertices may not leave B; and vertices of a pair
+// that continuous collision detection finds colliding over the step keep their old position.
+#include <cstddef>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "refine/exterior.hpp"
+#include "surface/fracture_surface.hpp"
+
+namespace fracref {
+
+/// Moves every boundary vertex of `s` to its closest point on B.
+void project_boundary_vertices(FractureSurface& s, const ExteriorSurface& exterior);
+
+/// In the candidate positions x1, moves every boundary vertex of `s` to its closest point on B.
+void apply_boundary_constraint(const FractureSurface& s, const ExteriorSurface& exterior,
+                               const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1);
+
+/// Resets to x0 every interior vertex whose x1 would leave B, then runs continuous collision
+/// detection of S against itself over the linear motion x0 → x1 (vertex–triangle and edge–edge,
+/// pairs sharing a vertex skipped) and resets the vertices of every colliding pair, repeating
+/// until the motion is collision-free (a reset vertex cannot cause a new collision with a
+/// collision-free neighbour, but it can expose one; after a few rounds every vertex of any pair
+/// found is reset). \pre x0 collision-free, x0.size() == x1.size() == s.positions.size().
+/// \return the number of vertices reset.
+std::size_t apply_collision_constraints(const FractureSurface& s, const ExteriorSurface& exterior,
+                                        const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1);
+
+}  // namespace fracref

@@ -1,0 +1,27 @@
+#pragma once
+// The exterior surface B for the refiner: closest-point projection (the boundary constraint) and
+// inside tests (interior vertices must stay inside the object).
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "geom/bvh.hpp"
+#include "io/mesh_soup.hpp"
+
+namespace fracref {
+
+struct ExteriorSurface {
+  Bvh bvh;                         ///< keeps B's positions and triangles
+  glm::dvec3 bbox_min{0.0}, bbox_max{0.0};
+
+  double diagonal() const { return glm::length(bbox_max - bbox_min); }
+  glm::dvec3 closest_point(const glm::dvec3& p) const { return fracref::closest_point(bvh, p).point; }
+  double squared_distance(const glm::dvec3& p) const { return fracref::closest_point(bvh, p).squared_distance; }
+  bool contains(const glm::dvec3& p) const { return point_in_mesh(bvh, p); }
+};
+
+/// Builds the exterior from a mesh. \throw InputError naming `what` when the mesh is not closed
+/// (boundary or non-manifold edges) or has no triangles.
+ExteriorSurface make_exterior(const MeshSoup& mesh, const std::string& what);
+
+}  // namespace fracref

@@ -1,0 +1,79 @@
+#include "refine/flips.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "refine/topology_edit.hpp"
+
+namespace fracref {
+
+double min_angle_degrees(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+  auto angle = [](const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& r) {
+    glm::dvec3 u = q - p, v = r - p;
+    double lu = glm::length(u), lv = glm::length(v);
+    if (lu == 0.0 || lv == 0.0) return 0.0;
+    return std::acos(std::clamp(glm::dot(u, v) / (lu * lv), -1.0, 1.0)) * 180.0 / M_PI;
+  };
+  return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)});
+}
+
+namespace {
+
+struct Quad {
+  glm::dvec3 a, b, c, d;  // faces (a, b, c), (b, a, d) -> (c, a, d), (d, b, c)
+  double pa, pb, pc, pd;
+};
+
+double tri_energy(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, double pa, double pb, double pc) {
+  return 0.5 * glm::length(glm::cross(b - a, c - a)) * (pa + pb + pc) / 3.0;
+}
+
+glm::dvec3 unit_normal(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+  glm::dvec3 n = glm::cross(b - a, c - a);
+  double l = glm::length(n);
+  return l > 0.0 ? n / l : glm::dvec3(0.0);
+}
+
+bool flip_improves(const Quad& q, const FlipOptions& o) {
+  double before = std::min(min_angle_degrees(q.a, q.b, q.c), min_angle_degrees(q.b, q.a, q.d));
+  if (before >= o.min_angle) return false;
+  double after = std::min(min_angle_degrees(q.c, q.a, q.d), min_angle_degrees(q.d, q.b, q.c));
+  if (after <= before) return false;
+  glm::dvec3 n1 = unit_normal(q.a, q.b, q.c), n2 = unit_normal(q.b, q.a, q.d);
+  if (glm::dot(n1, n2) < std::cos(o.max_dihedral * M_PI / 180.0)) return false;
+  glm::dvec3 m1 = unit_normal(q.c, q.a, q.d), m2 = unit_normal(q.d, q.b, q.c);
+  glm::dvec3 avg = n1 + n2;
+  if (glm::dot(m1, avg) <= 0.0 || glm::dot(m2, avg) <= 0.0) return false;
+  double e_old = tri_energy(q.a, q.b, q.c, q.pa, q.pb, q.pc) + tri_energy(q.b, q.a, q.d, q.pb, q.pa, q.pd);
+  double e_new = tri_energy(q.c, q.a, q.d, q.pc, q.pa, q.pd) + tri_energy(q.d, q.b, q.c, q.pd, q.pb, q.pc);
+  return e_new <= e_old;
+}
+
+}  // namespace
+
+std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> samples, const ExteriorSurface&,
+                                const FlipOptions& o) {
+  std::vector<char> used(s.faces.size(), 0);
+  std::set<std::pair<std::uint32_t, std::uint32_t>> created;  // edges this pass made (adjacency is stale)
+  std::size_t flips = 0;
+  for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
+    glm::uvec2 cd, ff;
+    if (s.edge_special[e] != kEdgeRegular) continue;
+    if (used[s.ef_faces[s.ef_offsets[e]]] || used[s.ef_faces[s.ef_offsets[e] + 1]]) continue;
+    if (!flip_candidates(s, e, cd, ff)) continue;
+    glm::uvec2 ab = s.edges[e];
+    auto x = [&](std::uint32_t v) { return glm::dvec3(glm::vec3(s.positions[v])); };
+    Quad q{x(ab.x), x(ab.y), x(cd.x), x(cd.y), samples[ab.x].x, samples[ab.y].x, samples[cd.x].x, samples[cd.y].x};
+    auto diagonal = std::minmax(cd.x, cd.y);
+    if (created.count(diagonal) || !flip_improves(q, o)) continue;
+    if (!flip_edge(s, e)) continue;
+    created.insert(diagonal);
+    used[ff.x] = used[ff.y] = 1;
+    ++flips;
+  }
+  if (flips) rebuild_adjacency(s);
+  return flips;
+}
+
+}  // namespace fracref

@@ -1,0 +1,31 @@
+#pragma once
+// Edge flips that remove slim triangles (paper 4.4) without changing the shape or raising the
+// energy, never on special (boundary or non-manifold) edges.
+#include <cstddef>
+#include <span>
+
+#include <glm/glm.hpp>
+
+#include "refine/exterior.hpp"
+#include "surface/fracture_surface.hpp"
+
+namespace fracref {
+
+struct FlipOptions {
+  double min_angle = 20.0;     ///< degrees: only edges of a face with a smaller angle are candidates
+  double max_dihedral = 25.0;  ///< degrees: the two faces must be this close to coplanar
+};
+
+/// One pass over the regular edges in id order: flips an edge when one of its faces has an angle
+/// below min_angle, the flip raises the smaller of the two faces' minimum angles, the faces are
+/// within max_dihedral of coplanar (so the shape barely changes), both new faces keep the old
+/// orientation, and the energy Σ A ψ̄ (ψ per vertex from `samples`) does not rise. Faces touched
+/// by one flip are not flipped again in the same pass. Rebuilds the adjacency when anything flipped.
+/// \return the number of flips.
+std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> samples, const ExteriorSurface& exterior,
+                                const FlipOptions& options);
+
+/// The smallest interior angle of triangle (a, b, c), in degrees (0 for a degenerate one).
+double min_angle_degrees(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
+
+}  // namespace fracref

@@ -1,0 +1,349 @@
+#include "refine/refine.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "refine/collisions.hpp"
+#include "refine/flips.hpp"
+#include "refine/samples.hpp"
+
+namespace fracref {
+namespace {
+
+// A vertex never moves more than this fraction of its shortest incident edge in one step, so a
+// step cannot invert its triangles. The automatic time step is the median over vertices of
+// kStepFraction · ℓ_i / |v_i|: half the vertices take the full gradient step, the fastest half
+// are clipped to kStepFraction · ℓ_i (a normalised-gradient step). If the energy rises anyway
+// the step is halved (at most kBacktracks times) and, failing that, not taken.
+constexpr float kStepFraction = 0.3f;
+constexpr int kBacktracks = 6;
+constexpr double kStiffFraction = 0.5;
+
+class Refiner {
+ public:
+  Refiner(FractureSurface& s, const FieldGrid4& field, const ExteriorSurface& b, ComputeBackend& be,
+          const RefineOptions& o)
+      : s_(s), field_(field), b_(b), be_(be), o_(o) {}
+
+  RefineResult run(const RefineProgress& progress);
+
+ private:
+  SurfaceView view() const { return {s_.positions, s_.faces, s_.vf_offsets, s_.vf_faces}; }
+  void evaluate();
+  double energy() const { return surface_energy(view(), samples_); }
+  std::vector<float> shortest_edges() const;
+  float choose_dt(const std::vector<float>& shortest) const;
+  std::vector<glm::vec3> boundary_tangents() const;
+  std::vector<float> stiffness_steps() const;
+  IterationStats flow_step();
+  std::size_t refine_step(std::uint32_t iteration, float dt);
+  glm::vec3 element_displacement(const SplitRequest& r, float dt) const;
+  void drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::vector<glm::vec3>& start,
+                                 std::vector<glm::vec3>& target) const;
+
+  FractureSurface& s_;
+  const FieldGrid4& field_;
+  const ExteriorSurface& b_;
+  ComputeBackend& be_;
+  RefineOptions o_;
+  RefinementTree tree_;
+  std::vector<glm::vec4> samples_, velocity_;
+  std::vector<float> shortest_;  // per vertex, for the refinement step
+};
+
+void Refiner::evaluate() {
+  samples_.resize(s_.positions.size());
+  velocity_.resize(s_.positions.size());
+  be_.vertex_velocities(view(), samples_, velocity_);
+}
+
+std::vector<float> Refiner::shortest_edges() const {
+  std::vector<float> len(s_.positions.size(), std::numeric_limits<float>::max());
+  for (const glm::uvec2& e : s_.edges) {
+    float l = glm::distance(glm::vec3(s_.positions[e.x]), glm::vec3(s_.positions[e.y]));
+    len[e.x] = std::min(len[e.x], l);
+    len[e.y] = std::min(len[e.y], l);
+  }
+  return len;
+}
+
+// A boundary vertex slides on B; its motion ALONG the boundary curve changes nothing of the
+// shape but bunches boundary vertices into slivers that no flip can repair (boundary edges are
+// special), so it is removed: boundary vertices move only across the curve.
+std::vector<glm::vec3> Refiner::boundary_tangents() const {
+  std::vector<glm::vec3> first(s_.positions.size(), glm::vec3(0.0f)), tangent(s_.positions.size(), glm::vec3(0.0f));
+  std::vector<std::uint8_t> count(s_.positions.size(), 0);
+  for (std::uint32_t e = 0; e < s_.edges.size(); ++e) {
+    if (s_.edge_special[e] != kEdgeBoundary) continue;
+    glm::uvec2 ab = s_.edges[e];
+    glm::vec3 dir = glm::vec3(s_.positions[ab.y]) - glm::vec3(s_.positions[ab.x]);
+    float len = glm::length(dir);
+    if (len == 0.0f) continue;
+    dir /= len;
+    for (std::uint32_t v : {ab.x, ab.y}) {
+      if (count[v]++ == 0) first[v] = dir;
+      else if (count[v] == 2) tangent[v] = glm::dot(first[v], dir) >= 0.0f ? first[v] + dir : first[v] - dir;
+    }
+  }
+  for (std::size_t v = 0; v < tangent.size(); ++v) {
+    float len = glm::length(tangent[v]);
+    tangent[v] = (count[v] == 2 && len > 0.0f) ? tangent[v] / len : glm::vec3(0.0f);
+  }
+  return tangent;
+}
+
+// The area term of the flow is stiff: a vertex of a sliver or of a small tent has a huge
+// velocity and an explicit step overshoots it into oscillation. Moving vertex i out of the plane
+// of face j (opposite edge L_j, area A_j) by h adds ½ h² L_j²/(4 A_j) to the area, so the energy's
+// normal stiffness at i is H_i = ψ_i Σ_j L_j²/(4 A_j) and the Newton step for it is M_i / H_i.
+// Each vertex's step is capped at kStiffFraction of it: a Jacobi-preconditioned descent.
+std::vector<float> Refiner::stiffness_steps() const {
+  std::vector<double> h(s_.positions.size(), 0.0);
+  for (const glm::uvec4& f : s_.faces) {
+    glm::dvec3 x[3] = {glm::dvec3(glm::vec3(s_.positions[f.x])), glm::dvec3(glm::vec3(s_.positions[f.y])),
+                       glm::dvec3(glm::vec3(s_.positions[f.z]))};
+    double area = 0.5 * glm::length(glm::cross(x[1] - x[0], x[2] - x[0]));
+    if (area <= 0.0) continue;
+    for (int k = 0; k < 3; ++k) {
+      glm::dvec3 opposite = x[(k + 2) % 3] - x[(k + 1) % 3];
+      h[f[k]] += glm::dot(opposite, opposite) / (4.0 * area);
+    }
+  }
+  std::vector<float> out(h.size(), std::numeric_limits<float>::max());
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    double stiffness = std::max(double(samples_[i].x), 1e-6) * h[i];
+    if (stiffness > 0.0) out[i] = float(kStiffFraction * velocity_[i].w / stiffness);
+  }
+  return out;
+}
+
+float Refiner::choose_dt(const std::vector<float>& shortest) const {
+  if (o_.step > 0.0) return float(o_.step);
+  std::vector<float> ratios;
+  ratios.reserve(velocity_.size());
+  for (std::size_t i = 0; i < velocity_.size(); ++i) {
+    float speed = glm::length(glm::vec3(velocity_[i]));
+    if (speed > 0.0f && shortest[i] < std::numeric_limits<float>::max())
+      ratios.push_back(kStepFraction * shortest[i] / speed);
+  }
+  if (ratios.empty()) return 0.0f;
+  auto mid = ratios.begin() + ratios.size() / 2;
+  std::nth_element(ratios.begin(), mid, ratios.end());
+  return *mid;
+}
+
+IterationStats Refiner::flow_step() {
+  IterationStats st;
+  evaluate();
+  const double e0 = energy();
+  const std::vector<float> shortest = shortest_edges();
+  const std::vector<glm::vec3> boundary_tangent = boundary_tangents();
+  const std::vector<float> stiff_dt = stiffness_steps();
+  float dt = choose_dt(shortest);
+  const std::vector<glm::vec4> x0 = s_.positions;
+  for (int attempt = 0; attempt <= kBacktracks && dt > 0.0f; ++attempt, dt *= 0.5f) {
+    std::vector<glm::vec4> x1 = x0;
+    for (std::size_t i = 0; i < x0.size(); ++i) {
+      glm::vec3 d = std::min(dt, stiff_dt[i]) * glm::vec3(velocity_[i]);
+      d -= glm::dot(d, boundary_tangent[i]) * boundary_tangent[i];
+      float len = glm::length(d), cap = kStepFraction * shortest[i];
+      if (len > cap) d *= cap / len;
+      x1[i] = glm::vec4(glm::vec3(x0[i]) + d, 1.0f);
+    }
+    apply_boundary_constraint(s_, b_, x0, x1);
+    st.collisions_stopped = o_.collisions ? apply_collision_constraints(s_, b_, x0, x1) : 0;
+    s_.positions = x1;
+    std::vector<glm::vec4> trial(x1.size()), vel(x1.size());
+    be_.vertex_velocities(view(), trial, vel);
+    double e1 = surface_energy(view(), trial);
+    if (e1 <= e0) {
+      st.dt = dt;
+      for (std::size_t i = 0; i < x0.size(); ++i)
+        st.max_displacement = std::max<double>(st.max_displacement, glm::distance(glm::vec3(x0[i]), glm::vec3(x1[i])));
+      samples_ = std::move(trial);
+      velocity_ = std::move(vel);
+      return st;
+    }
+  }
+  s_.positions = x0;  // no step lowered the energy: stay
+  evaluate();
+  return st;
+}
+
+// The faces a split request touches, and the energy change of the split with the new vertex at
+// `p` with field value psi_p: Σ_new A ψ̄ − Σ_old A ψ̄ over those faces.
+struct SplitEffect {
+  std::vector<std::uint32_t> faces;
+  double delta_energy = 0.0;
+  float offset = 0.0f;  // how far the sample would move off its element
+  float shortest = 0.0f;
+};
+
+// Same arithmetic as surface_energy (double from the float positions) so that an accepted split
+// cannot raise the energy the report measures by more than rounding.
+double face_energy(const glm::vec3& fa, const glm::vec3& fb, const glm::vec3& fc, double pa, double pb, double pc) {
+  glm::dvec3 a(fa), b(fb), c(fc);
+  double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+  return area * (pa + pb + pc) / 3.0;
+}
+
+SplitEffect split_effect(const FractureSurface& s, const std::vector<glm::vec4>& psi, const SplitRequest& r,
+                         const glm::vec3& p, float psi_p, const glm::vec3& d) {
+  SplitEffect fx;
+  auto x = [&](std::uint32_t v) { return glm::vec3(s.positions[v]); };
+  auto q = [&](std::uint32_t v) { return double(psi[v].x); };
+  if (r.kind == SplitRequest::kFace) {
+    glm::uvec4 f = s.faces[r.element];
+    fx.faces = {r.element};
+    fx.delta_energy = face_energy(x(f.x), x(f.y), p, q(f.x), q(f.y), psi_p) +
+                      face_energy(x(f.y), x(f.z), p, q(f.y), q(f.z), psi_p) +
+                      face_energy(x(f.z), x(f.x), p, q(f.z), q(f.x), psi_p) -
+                      face_energy(x(f.x), x(f.y), x(f.z), q(f.x), q(f.y), q(f.z));
+    glm::vec3 n = glm::cross(x(f.y) - x(f.x), x(f.z) - x(f.x));
+    float nl = glm::length(n);
+    fx.offset = nl > 0.0f ? std::abs(glm::dot(d, n / nl)) : 0.0f;
+    fx.shortest = std::min({glm::distance(x(f.x), x(f.y)), glm::distance(x(f.y), x(f.z)), glm::distance(x(f.z), x(f.x))});
+    return fx;
+  }
+  glm::uvec2 e = s.edges[r.element];
+  for (std::uint32_t k = s.ef_offsets[r.element]; k < s.ef_offsets[r.element + 1]; ++k) {
+    std::uint32_t fi = s.ef_faces[k];
+    glm::uvec4 f = s.faces[fi];
+    std::uint32_t z = f.x + f.y + f.z - e.x - e.y;  // the vertex opposite the edge
+    fx.faces.push_back(fi);
+    fx.delta_energy += face_energy(x(e.x), p, x(z), q(e.x), psi_p, q(z)) + face_energy(p, x(e.y), x(z), psi_p, q(e.y), q(z)) -
+                       face_energy(x(e.x), x(e.y), x(z), q(e.x), q(e.y), q(z));
+  }
+  glm::vec3 axis = x(e.y) - x(e.x);
+  float len = glm::length(axis);
+  fx.shortest = len;
+  fx.offset = len > 0.0f ? glm::length(d - glm::dot(d, axis / len) * (axis / len)) : 0.0f;
+  return fx;
+}
+
+// A split inserts the sample where one flow step would take it (paper 4.4: "if it moves too far
+// away from the triangle after one iteration, we add it as a new vertex"), and only when that
+// lowers the energy. The tree records the sample's weights on its parent element (its position
+// at creation); the move to the stepped position is motion like any other, checked for collisions
+// on a trial copy first so that S stays intersection-free.
+std::size_t Refiner::refine_step(std::uint32_t iteration, float dt) {
+  const float scale = float(o_.scale);
+  SampleSet set = draw_samples(s_, o_.seed, iteration, float(o_.delta) * scale);
+  std::vector<char> on_boundary(set.points.size(), 0);
+  for (std::size_t k = 0; k < set.points.size(); ++k) {
+    const SplitRequest& r = set.requests[k];
+    if (r.kind == SplitRequest::kEdge && s_.edge_special[r.element] == kEdgeBoundary) {
+      set.points[k] = glm::vec4(glm::vec3(b_.closest_point(glm::dvec3(set.points[k]))), 1.0f);
+      on_boundary[k] = 1;
+    }
+  }
+  shortest_ = shortest_edges();
+  std::vector<glm::vec4> out(set.points.size());
+  be_.sample_tests(s_.positions, samples_, SampleView{set.points, set.fan_offsets, set.fan_pairs}, out);
+  std::vector<char> touched(s_.faces.size(), 0);
+  std::vector<SplitRequest> chosen;
+  std::vector<glm::vec3> start, target;
+  std::size_t faces = s_.faces.size();
+  for (std::size_t k = 0; k < set.points.size(); ++k) {
+    glm::vec3 p(set.points[k]);
+    glm::vec3 d = dt * glm::vec3(out[k]);
+    SplitEffect fx = split_effect(s_, samples_, set.requests[k], p, out[k].w, d);
+    float cap = kStepFraction * fx.shortest, len = glm::length(d);
+    if (len > cap) d *= cap / len;
+    // Distance from the moved element: the sample's motion relative to the motion the element's
+    // own vertices interpolate to at the sample (zero where ψ is linear over the element).
+    glm::vec3 rel = d - element_displacement(set.requests[k], dt);
+    fx = split_effect(s_, samples_, set.requests[k], p, out[k].w, rel);
+    if (fx.offset <= float(o_.tau) * scale) continue;
+    if (std::any_of(fx.faces.begin(), fx.faces.end(), [&](std::uint32_t f) { return touched[f] != 0; })) continue;
+    glm::vec3 q = p + d;
+    if (on_boundary[k]) q = glm::vec3(b_.closest_point(glm::dvec3(q)));
+    if (split_effect(s_, samples_, set.requests[k], q, sample_field(field_, q).x, d).delta_energy > 0.0) continue;
+    std::size_t added = set.requests[k].kind == SplitRequest::kFace ? 2 : fx.faces.size();
+    if (faces + added > o_.max_triangles) break;
+    faces += added;
+    for (std::uint32_t f : fx.faces) touched[f] = 1;
+    chosen.push_back(set.requests[k]);
+    start.push_back(p);
+    target.push_back(q);
+  }
+  drop_colliding_insertions(chosen, start, target);
+  apply_splits(s_, tree_, chosen, &target);
+  return chosen.size();
+}
+
+glm::vec3 Refiner::element_displacement(const SplitRequest& r, float dt) const {
+  auto step = [&](std::uint32_t v) {
+    glm::vec3 d = dt * glm::vec3(velocity_[v]);
+    float len = glm::length(d), cap = kStepFraction * shortest_[v];
+    return len > cap ? d * (cap / len) : d;
+  };
+  if (r.kind == SplitRequest::kFace) {
+    glm::uvec4 f = s_.faces[r.element];
+    return r.weights.x * step(f.x) + r.weights.y * step(f.y) + r.weights.z * step(f.z);
+  }
+  glm::uvec2 e = s_.edges[r.element];
+  return r.weights.x * step(e.x) + r.weights.y * step(e.y);
+}
+
+void Refiner::drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::vector<glm::vec3>& start,
+                                        std::vector<glm::vec3>& target) const {
+  if (chosen.empty()) return;
+  FractureSurface trial = s_;
+  RefinementTree scratch = tree_;
+  std::size_t first_new = trial.positions.size();
+  apply_splits(trial, scratch, chosen, &start);
+  std::vector<glm::vec4> x0 = trial.positions, x1 = trial.positions;
+  for (std::size_t k = 0; k < chosen.size(); ++k) x1[first_new + k] = glm::vec4(target[k], 1.0f);
+  apply_boundary_constraint(trial, b_, x0, x1);
+  if (o_.collisions) apply_collision_constraints(trial, b_, x0, x1);
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < chosen.size(); ++k) {
+    if (x1[first_new + k] != glm::vec4(target[k], 1.0f)) continue;  // held back: drop this split
+    chosen[kept] = chosen[k], start[kept] = start[k], target[kept] = target[k];
+    ++kept;
+  }
+  chosen.resize(kept), start.resize(kept), target.resize(kept);
+}
+
+RefineResult Refiner::run(const RefineProgress& progress) {
+  RefineResult result;
+  tree_ = RefinementTree::identity(s_.positions.size());
+  be_.set_field(field_);
+  project_boundary_vertices(s_, b_);
+  evaluate();
+  result.initial_energy = energy();
+  for (int it = 0; it < o_.max_iterations; ++it) {
+    float nominal_dt = 0.0f;
+    IterationStats st = flow_step();
+    nominal_dt = st.dt > 0.0f ? float(st.dt) : choose_dt(shortest_edges());
+    st.splits = refine_step(std::uint32_t(it), nominal_dt);
+    evaluate();
+    st.flips = flip_slim_triangles(s_, samples_, b_, FlipOptions{o_.min_angle});
+    evaluate();
+    st.energy = energy();
+    st.triangles = s_.faces.size();
+    result.iterations.push_back(st);
+    if (progress) progress(st, it, o_.max_iterations);
+    if (s_.faces.size() >= o_.max_triangles) {
+      result.stop = RefineResult::Stop::kTriangleBudget;
+      break;
+    }
+    if (st.splits == 0 && st.max_displacement < o_.tolerance * o_.scale) {
+      result.stop = RefineResult::Stop::kConverged;
+      break;
+    }
+  }
+  result.tree = std::move(tree_);
+  return result;
+}
+
+}  // namespace
+
+RefineResult refine_surface(FractureSurface& s, const FieldGrid4& field, const ExteriorSurface& exterior,
+                            ComputeBackend& backend, const RefineOptions& options, const RefineProgress& progress) {
+  Refiner r(s, field, exterior, backend, options);
+  return r.run(progress);
+}
+
+}  // namespace fracref

@@ -1,0 +1,57 @@
+#pragma once
+// The refinement loop (paper 4.3–4.4): gradient flow of S in the modified strength field with
+// boundary and collision constraints, adaptive 1-to-3 and edge splits, and edge flips.
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "flow/backend.hpp"
+#include "refine/exterior.hpp"
+#include "refine/topology_edit.hpp"
+#include "surface/fracture_surface.hpp"
+
+namespace fracref {
+
+/// Parameters of refine_surface(); lengths are fractions of `scale` (the exterior's bbox diagonal).
+struct RefineOptions {
+  double scale = 1.0;           ///< the length unit of the fractions below (bbox diagonal of B)
+  double tau = 0.002;           ///< split when a sample would move farther than tau·scale off its element
+  double delta = 0.004;         ///< discard samples closer than delta·scale to a vertex
+  double step = 0.0;            ///< time step; 0 = automatic (see refine.cpp: median CFL rule)
+  double tolerance = 1e-5;      ///< stop when the largest displacement < tolerance·scale and nothing split
+  int max_iterations = 60;
+  std::size_t max_triangles = 200000;
+  std::uint64_t seed = 1;
+  double min_angle = 20.0;      ///< degrees: flip edges of faces with a smaller angle
+  bool collisions = true;       ///< continuous collision detection of S against itself and B
+};
+
+/// What one iteration did (report.json's `iterations` list).
+struct IterationStats {
+  double energy = 0.0;              ///< E(S) after the iteration
+  std::size_t triangles = 0;        ///< after the iteration
+  double max_displacement = 0.0;    ///< largest vertex motion of the flow step (scene units)
+  std::size_t collisions_stopped = 0;  ///< vertices held back by the collision constraints
+  std::size_t splits = 0, flips = 0;
+  double dt = 0.0;
+};
+
+struct RefineResult {
+  double initial_energy = 0.0;
+  std::vector<IterationStats> iterations;
+  RefinementTree tree;
+  enum class Stop { kConverged, kTriangleBudget, kIterationCap } stop = Stop::kIterationCap;
+};
+
+/// Called after every iteration (for progress display); may be empty.
+using RefineProgress = std::function<void(const IterationStats&, int iteration, int max_iterations)>;
+
+/// Refines `s` in place. Every vertex of `s` present on entry is a leaf of the returned tree.
+/// Deterministic for a given backend, options and input.
+/// \pre s valid (validate(s) == ""), field covers B's bounding box, backend's field set or not
+///      (refine_surface calls set_field itself).
+RefineResult refine_surface(FractureSurface& s, const FieldGrid4& field, const ExteriorSurface& exterior,
+                            ComputeBackend& backend, const RefineOptions& options,
+                            const RefineProgress& progress = {});
+
+}  // namespace fracref

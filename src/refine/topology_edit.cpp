@@ -1,0 +1,125 @@
+#include "refine/topology_edit.hpp"
+
+#include <algorithm>
+#include <map>
+
+#include "util/error.hpp"
+
+namespace fracref {
+
+RefinementTree RefinementTree::identity(std::size_t n) {
+  RefinementTree t;
+  t.parents.resize(n);
+  t.weights.assign(n, glm::vec3(1.0f, 0.0f, 0.0f));
+  for (std::uint32_t i = 0; i < n; ++i) t.parents[i] = glm::uvec3(i);
+  return t;
+}
+
+std::vector<std::pair<std::uint32_t, double>> RefinementTree::leaf_weights(std::uint32_t v) const {
+  std::map<std::uint32_t, double> acc;
+  std::vector<std::pair<std::uint32_t, double>> stack{{v, 1.0}};
+  while (!stack.empty()) {
+    auto [u, w] = stack.back();
+    stack.pop_back();
+    if (parents[u] == glm::uvec3(u)) {
+      acc[u] += w;
+      continue;
+    }
+    for (int k = 0; k < 3; ++k)
+      if (weights[u][k] != 0.0f) stack.push_back({parents[u][k], w * weights[u][k]});
+  }
+  return {acc.begin(), acc.end()};
+}
+
+namespace {
+
+std::uint32_t add_vertex(FractureSurface& s, RefinementTree& tree, glm::uvec3 parents, glm::vec3 w) {
+  glm::vec3 p = w.x * glm::vec3(s.positions[parents.x]) + w.y * glm::vec3(s.positions[parents.y]) +
+                w.z * glm::vec3(s.positions[parents.z]);
+  s.positions.push_back(glm::vec4(p, 1.0f));
+  s.vertex_flags.push_back(0u);
+  tree.parents.push_back(parents);
+  tree.weights.push_back(w);
+  return std::uint32_t(s.positions.size() - 1);
+}
+
+void add_face(FractureSurface& s, glm::uvec3 v, glm::ivec2 pieces) {
+  s.faces.push_back(glm::uvec4(v, 0u));
+  s.face_pieces.push_back(pieces);
+}
+
+void split_face(FractureSurface& s, RefinementTree& tree, const SplitRequest& r) {
+  glm::uvec4 f = s.faces[r.element];
+  std::uint32_t v = add_vertex(s, tree, glm::uvec3(f), r.weights);
+  glm::ivec2 pieces = s.face_pieces[r.element];
+  s.faces[r.element] = glm::uvec4(f.x, f.y, v, 0u);
+  add_face(s, {f.y, f.z, v}, pieces);
+  add_face(s, {f.z, f.x, v}, pieces);
+}
+
+void split_edge(FractureSurface& s, RefinementTree& tree, const SplitRequest& r) {
+  glm::uvec2 e = s.edges[r.element];
+  std::uint32_t v = add_vertex(s, tree, glm::uvec3(e.x, e.y, e.x), r.weights);
+  for (std::uint32_t k = s.ef_offsets[r.element]; k < s.ef_offsets[r.element + 1]; ++k) {
+    std::uint32_t fi = s.ef_faces[k];
+    glm::uvec4 f = s.faces[fi];
+    // Rotate so that the split edge is (x, y) in the face's own traversal order.
+    glm::uvec3 c(f);
+    for (int rot = 0; rot < 3; ++rot) {
+      bool match = (c.x == e.x && c.y == e.y) || (c.x == e.y && c.y == e.x);
+      if (match) break;
+      c = glm::uvec3(c.y, c.z, c.x);
+    }
+    s.faces[fi] = glm::uvec4(c.x, v, c.z, 0u);
+    add_face(s, {v, c.y, c.z}, s.face_pieces[fi]);
+  }
+}
+
+}  // namespace
+
+std::size_t apply_splits(FractureSurface& s, RefinementTree& tree, const std::vector<SplitRequest>& requests,
+                         const std::vector<glm::vec3>* positions) {
+  std::size_t before = s.positions.size();
+  for (std::size_t k = 0; k < requests.size(); ++k) {
+    const SplitRequest& r = requests[k];
+    if (r.kind == SplitRequest::kFace) split_face(s, tree, r);
+    else split_edge(s, tree, r);
+    if (positions) s.positions.back() = glm::vec4((*positions)[k], 1.0f);
+  }
+  rebuild_adjacency(s);
+  return s.positions.size() - before;
+}
+
+bool flip_candidates(const FractureSurface& s, std::uint32_t edge, glm::uvec2& opposite, glm::uvec2& faces) {
+  if (s.edge_special[edge] != kEdgeRegular) return false;
+  std::uint32_t f1 = s.ef_faces[s.ef_offsets[edge]], f2 = s.ef_faces[s.ef_offsets[edge] + 1];
+  if (s.face_pieces[f1] != s.face_pieces[f2]) return false;
+  glm::uvec2 e = s.edges[edge];
+  // Rotates face fi to start at `first`; false when the face does not hold it (stale adjacency).
+  auto rotate_to = [&](std::uint32_t fi, std::uint32_t first, glm::uvec3& c) {
+    c = glm::uvec3(s.faces[fi]);
+    for (int k = 0; k < 3 && c.x != first; ++k) c = glm::uvec3(c.y, c.z, c.x);
+    return c.x == first;
+  };
+  glm::uvec3 a, b;
+  if (!rotate_to(f1, e.x, a)) return false;  // (e.x, ?, ?)
+  if (a.y != e.y) {                          // f1 traverses e.y -> e.x: swap roles
+    std::swap(f1, f2);
+    if (!rotate_to(f1, e.x, a) || a.y != e.y) return false;  // inconsistent winding
+  }
+  if (!rotate_to(f2, e.y, b) || b.y != e.x) return false;
+  opposite = {a.z, b.z};
+  faces = {f1, f2};
+  return find_edge(s, a.z, b.z) == kNoEdge && a.z != b.z;
+}
+
+bool flip_edge(FractureSurface& s, std::uint32_t edge) {
+  glm::uvec2 cd, ff;
+  if (!flip_candidates(s, edge, cd, ff)) return false;
+  glm::uvec2 e = s.edges[edge];  // f1 = (a, b, c) with a = e.x, b = e.y; f2 = (b, a, d)
+  s.faces[ff.x] = glm::uvec4(cd.x, e.x, cd.y, 0u);
+  s.faces[ff.y] = glm::uvec4(cd.y, e.y, cd.x, 0u);
+  return true;
+}
+
+}  // namespace fracref

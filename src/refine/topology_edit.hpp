@@ -1,0 +1,59 @@
+#pragma once
+// Topology edits of the fracture surface S during adaptive refinement (paper 4.4): 1-to-3 face
+// splits, edge splits across any number of faces, edge flips; and the refinement tree that
+// records where every new vertex came from.
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "surface/fracture_surface.hpp"
+
+namespace fracref {
+
+/// Per vertex of S, up to three (parent, weight) pairs: the vertex was created at
+/// Σ_k weights[k] · x(parents[k]) as it was at that moment. An original (coarse) vertex is its
+/// own parent with weight 1. Parents are older vertices, so the pairs form a tree whose leaves
+/// are the coarse vertices (paper 4.4, Figure 6).
+struct RefinementTree {
+  std::vector<glm::uvec3> parents;
+  std::vector<glm::vec3> weights;
+
+  /// A tree for `n` original vertices.
+  static RefinementTree identity(std::size_t n);
+  /// The leaves (coarse vertices) and their weights reached from vertex v, weights multiplied
+  /// along the path and merged per leaf, ascending by leaf id.
+  std::vector<std::pair<std::uint32_t, double>> leaf_weights(std::uint32_t v) const;
+};
+
+/// One split chosen by the refiner, at a point given by weights on the element's vertices.
+struct SplitRequest {
+  enum Kind : std::uint8_t { kFace, kEdge } kind;
+  std::uint32_t element;  ///< face id (kFace) or edge id (kEdge) of S's current adjacency
+  glm::vec3 weights;      ///< kFace: barycentric on the face's (x, y, z); kEdge: (1−t, t, 0) on (edges[e].x, .y)
+};
+
+/// Applies the splits (each element at most once; no face may be touched by two requests),
+/// appending new vertices (positions from the weights) and faces that keep their parent face's
+/// pieces, records the new vertices in `tree`, then rebuilds the adjacency.
+/// A face split turns (a, b, c) into (a, b, s), (b, c, s), (c, a, s); an edge split turns every
+/// face (x, y, z) traversing the edge as x→y into (x, s, z), (s, y, z).
+/// When `positions` is given (one per request) the new vertex is placed there instead of at the
+/// weighted point (a boundary sample projected onto the exterior); the tree keeps the weights.
+/// \pre adjacency current; requests reference valid elements; tree covers every vertex.
+/// \return the number of vertices added.
+std::size_t apply_splits(FractureSurface& s, RefinementTree& tree, const std::vector<SplitRequest>& requests,
+                         const std::vector<glm::vec3>* positions = nullptr);
+
+/// Flips the regular edge `edge` shared by faces (a, b, c) and (b, a, d) into (c, a, d), (d, b, c).
+/// Returns false, changing nothing, when the edge is special, its faces are wound inconsistently
+/// or separate different pieces, or the edge c–d already exists. Does NOT rebuild the adjacency:
+/// the caller flips a set of edges with disjoint faces, then calls rebuild_adjacency().
+/// \pre adjacency current.
+bool flip_edge(FractureSurface& s, std::uint32_t edge);
+
+/// The two opposite vertices (c, d) of a regular edge, as flip_edge would use them, and the two
+/// faces; false when the edge cannot be flipped (see flip_edge).
+bool flip_candidates(const FractureSurface& s, std::uint32_t edge, glm::uvec2& opposite, glm::uvec2& faces);
+
+}  // namespace fracref
