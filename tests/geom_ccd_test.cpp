@@ -238,6 +238,32 @@ TEST(GeomCcd, MovingAgainstStaticMesh) {
                    .empty());
 }
 
+TEST(GeomCcd, IgnoredVerticesRestingOnTheStaticMesh) {
+  // A sheet whose left column rests on the top face of a box and whose other vertices move a
+  // little above it: every pair with a resting vertex is a contact, the rest is clear.
+  const auto box = fracref::make_box({0, 0, 0}, {1, 1, 1}, 2);
+  const auto s = fracref::make_grid_sheet({0.1, 0.1, 1.0}, {0.8, 0, 0}, {0, 0.8, 0}, 4, 4);
+  std::vector<dvec3> x0 = s.positions, x1 = s.positions;
+  std::vector<std::uint8_t> resting(x0.size(), 0);
+  for (std::size_t v = 0; v < x0.size(); ++v) {
+    if (x0[v].x < 0.15) {
+      resting[v] = 1;
+      continue;
+    }
+    x0[v].z = 1.0 + 0.2 * (x0[v].x - 0.1);
+    x1[v] = x0[v] + dvec3(0.01, 0.02, 0.001);
+  }
+  const auto touching = fracref::find_step_collisions_with_static(x0, x1, s.triangles, box.positions, box.triangles);
+  ASSERT_FALSE(touching.empty());
+  fracref::StepCcdOptions options;
+  options.ignored_vertices = &resting;
+  EXPECT_TRUE(fracref::find_step_collisions_with_static(x0, x1, s.triangles, box.positions, box.triangles, options)
+                  .empty());
+  resting.pop_back();
+  EXPECT_THROW(fracref::find_step_collisions_with_static(x0, x1, s.triangles, box.positions, box.triangles, options),
+               fracref::InputError);
+}
+
 TEST(GeomCcd, BadInputIsRejected) {
   const auto m = sheet(0.0, 0.0, 2);
   std::vector<dvec3> x1 = m.positions;

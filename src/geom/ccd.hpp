@@ -80,6 +80,12 @@ struct CcdPair {
 struct StepCcdOptions {
   CcdOptions ccd;
   int threads = 2;  ///< worker threads (>= 1); the result does not depend on it
+  /// find_step_collisions_with_static only: moving-mesh vertices flagged non-zero here (size =
+  /// vertex count, or null for none) take part in no pair, nor do the moving triangles and
+  /// edges that contain them. For vertices that rest on the static mesh by construction (the
+  /// boundary of the fracture surface, projected onto the exterior), which would otherwise
+  /// always be in contact.
+  const std::vector<std::uint8_t>* ignored_vertices = nullptr;
 };
 
 /// All colliding vertex-triangle and edge-edge pairs of a mesh against itself over the step
@@ -93,7 +99,8 @@ std::vector<CcdPair> find_step_collisions(const std::vector<glm::dvec3>& x0, con
 
 /// All colliding pairs between a moving mesh (x0 -> x1, `triangles`) and a static mesh (for
 /// example the exterior surface): moving vertices against static triangles, static vertices
-/// against moving triangles, moving edges against static edges. Sorted. \throw as above.
+/// against moving triangles, moving edges against static edges. Sorted. \throw as above, and
+/// when options.ignored_vertices does not have one flag per moving vertex.
 std::vector<CcdPair> find_step_collisions_with_static(const std::vector<glm::dvec3>& x0,
                                                       const std::vector<glm::dvec3>& x1,
                                                       const std::vector<std::array<std::uint32_t, 3>>& triangles,

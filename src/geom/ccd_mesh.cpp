@@ -143,6 +143,11 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
   BvhOptions tree_options;
   tree_options.threads = options.threads;
   const auto& s = static_positions;
+  const std::vector<std::uint8_t>* ignored = options.ignored_vertices;
+  if (ignored && ignored->size() != x0.size())
+    throw InputError("step collisions: " + std::to_string(ignored->size()) + " ignored-vertex flags for " +
+                     std::to_string(x0.size()) + " vertices");
+  auto skip = [ignored](std::uint32_t v) { return ignored && (*ignored)[v] != 0; };
   // Moving vertices against static triangles.
   const auto moving_vertices = used_vertices(triangles, x0.size());
   const Bvh moving_vertex_tree = build_bvh(swept_boxes(x0, x1, moving_vertices, 0.0), tree_options);
@@ -152,6 +157,7 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
       [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
         const std::uint32_t v = moving_vertices[k][0];
         const auto& tri = static_triangles[t];
+        if (skip(v)) return;
         if (ccd_vertex_triangle(x0[v], s[tri[0]], s[tri[1]], s[tri[2]], x1[v], s[tri[0]], s[tri[1]], s[tri[2]], ccd))
           found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
       });
@@ -164,6 +170,7 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
       [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
         const std::uint32_t v = static_vertices[k][0];
         const auto& tri = triangles[t];
+        if (skip(tri[0]) || skip(tri[1]) || skip(tri[2])) return;
         if (ccd_vertex_triangle(s[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], s[v], x1[tri[0]], x1[tri[1]], x1[tri[2]], ccd))
           found.push_back(vertex_pair(CcdKind::triangle_vertex, v, tri, t));
       });
@@ -177,6 +184,7 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
       [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
         const Edge& e = edges[i];
         const Edge& f = static_edges[j];
+        if (skip(e[0]) || skip(e[1])) return;
         if (ccd_edge_edge(x0[e[0]], x0[e[1]], s[f[0]], s[f[1]], x1[e[0]], x1[e[1]], s[f[0]], s[f[1]], ccd))
           found.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});
       });
