@@ -2,10 +2,18 @@
 #include "geom/ccd.hpp"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <vector>
 
 #include "geom/bvh.hpp"
+
+// Error-free transformations and the error bounds below assume IEEE double arithmetic with
+// round-to-nearest and no extended intermediate precision.
+#if defined(__FAST_MATH__)
+#error "fracref geom: exact predicates and CCD error bounds must not be built with -ffast-math"
+#endif
+static_assert(FLT_EVAL_METHOD == 0, "fracref geom: needs double evaluation without extended precision");
 
 namespace fracref {
 namespace {

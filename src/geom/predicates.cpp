@@ -1,7 +1,15 @@
 #include "geom/predicates.hpp"
 
 #include <atomic>
+#include <cfloat>
 #include <cmath>
+
+// Error-free transformations and the error bounds below assume IEEE double arithmetic with
+// round-to-nearest and no extended intermediate precision.
+#if defined(__FAST_MATH__)
+#error "fracref geom: exact predicates and CCD error bounds must not be built with -ffast-math"
+#endif
+static_assert(FLT_EVAL_METHOD == 0, "fracref geom: needs double evaluation without extended precision");
 
 namespace fracref {
 namespace {
