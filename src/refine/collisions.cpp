@@ -1,6 +1,8 @@
 #include "refine/collisions.hpp"
 
-#include "geom/parallel.hpp"
+#include <algorithm>
+
+#include "geom/ccd.hpp"
 
 namespace fracref {
 
@@ -35,11 +37,45 @@ std::size_t keep_inside(const FractureSurface& s, const ExteriorSurface& b, cons
   return reset;
 }
 
+std::vector<glm::dvec3> to_double(const std::vector<glm::vec4>& x) {
+  std::vector<glm::dvec3> out(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) out[i] = glm::dvec3(glm::vec3(x[i]));
+  return out;
+}
+
 }  // namespace
 
 std::size_t apply_collision_constraints(const FractureSurface& s, const ExteriorSurface& b,
                                         const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) {
-  return keep_inside(s, b, x0, x1);
+  std::size_t stopped = keep_inside(s, b, x0, x1);
+  std::vector<std::array<std::uint32_t, 3>> tris(s.faces.size());
+  for (std::size_t f = 0; f < s.faces.size(); ++f) tris[f] = {s.faces[f].x, s.faces[f].y, s.faces[f].z};
+  std::vector<std::uint8_t> on_b(x1.size(), 0);
+  for (std::size_t i = 0; i < x1.size(); ++i) on_b[i] = (s.vertex_flags[i] & kVertexBoundary) ? 1 : 0;
+  StepCcdOptions opts;
+  opts.ccd.tolerance = 1e-7 * b.diagonal();
+  const std::vector<glm::dvec3> p0 = to_double(x0);
+  // Each round resets every vertex of every colliding pair; the moving set shrinks strictly, and
+  // a motion where nothing moves is collision-free, so the loop ends.
+  for (int round = 0; round < 64; ++round) {
+    std::vector<glm::dvec3> p1 = to_double(x1);
+    std::vector<CcdPair> pairs = find_step_collisions(p0, p1, tris, opts);
+    opts.ignored_vertices = &on_b;
+    std::vector<CcdPair> with_b = find_step_collisions_with_static(p0, p1, tris, b.bvh.positions, b.bvh.triangles, opts);
+    opts.ignored_vertices = nullptr;
+    if (pairs.empty() && with_b.empty()) break;
+    auto freeze = [&](std::uint32_t v) {
+      if (x1[v] != x0[v]) x1[v] = x0[v], ++stopped;
+    };
+    for (const CcdPair& p : pairs)
+      for (std::uint32_t v : p.vertices) freeze(v);
+    for (const CcdPair& p : with_b) {
+      if (p.kind == CcdKind::vertex_triangle) freeze(p.vertices[0]);
+      else if (p.kind == CcdKind::triangle_vertex) freeze(p.vertices[1]), freeze(p.vertices[2]), freeze(p.vertices[3]);
+      else freeze(p.vertices[0]), freeze(p.vertices[1]);
+    }
+  }
+  return stopped;
 }
 
 }  // namespace fracref

@@ -18,6 +18,7 @@ namespace {
 constexpr float kStepFraction = 0.3f;
 constexpr int kBacktracks = 6;
 constexpr double kStiffFraction = 0.5;
+constexpr int kInsertBacktracks = 10;
 
 class Refiner {
  public:
@@ -256,9 +257,16 @@ std::size_t Refiner::refine_step(std::uint32_t iteration, float dt) {
     fx = split_effect(s_, samples_, set.requests[k], p, out[k].w, rel);
     if (fx.offset <= float(o_.tau) * scale) continue;
     if (std::any_of(fx.faces.begin(), fx.faces.end(), [&](std::uint32_t f) { return touched[f] != 0; })) continue;
-    glm::vec3 q = p + d;
-    if (on_boundary[k]) q = glm::vec3(b_.closest_point(glm::dvec3(q)));
-    if (split_effect(s_, samples_, set.requests[k], q, sample_field(field_, q).x, d).delta_energy > 0.0) continue;
+    // The full step overshoots where the new faces' extra area outweighs the weaker material
+    // reached, so the insertion point is backtracked along the step until it lowers E.
+    glm::vec3 q;
+    bool lowers = false;
+    for (int halving = 0; halving < kInsertBacktracks && !lowers; ++halving, d *= 0.5f) {
+      q = p + d;
+      if (on_boundary[k]) q = glm::vec3(b_.closest_point(glm::dvec3(q)));
+      lowers = split_effect(s_, samples_, set.requests[k], q, sample_field(field_, q).x, d).delta_energy < 0.0;
+    }
+    if (!lowers) continue;
     std::size_t added = set.requests[k].kind == SplitRequest::kFace ? 2 : fx.faces.size();
     if (faces + added > o_.max_triangles) break;
     faces += added;

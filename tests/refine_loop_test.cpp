@@ -1,0 +1,175 @@
+// The refinement loop on a hand-made case: a unit cube cut in half by a coarse planar sheet, in a
+// field whose weak valley is a wavy surface near the sheet.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "field/field_sampler.hpp"
+#include "field/pyramid.hpp"
+#include "flow/backend.hpp"
+#include "geom/intersect.hpp"
+#include "refine/flips.hpp"
+#include "refine/refine.hpp"
+#include "surface/surface_examples.hpp"
+
+using namespace fracref;
+
+namespace {
+
+MeshSoup unit_cube() {
+  MeshSoup m;
+  for (int i = 0; i < 8; ++i) m.positions.push_back(glm::dvec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
+  m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return m;
+}
+
+/// An n×n grid sheet at height z spanning the cube, pieces (1 above, 0 below).
+FractureSurface sheet(int n, float z) {
+  std::vector<glm::vec4> p;
+  std::vector<glm::uvec4> f;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) p.push_back({float(i) / n, float(j) / n, z, 1.0f});
+  auto id = [n](int i, int j) { return std::uint32_t(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      f.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), 0});
+      f.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1), 0});
+    }
+  std::vector<glm::ivec2> pieces(f.size(), glm::ivec2(1, 0));
+  return make_fracture_surface(p, f, pieces, 2);
+}
+
+/// ψ = 1 + 0.8·|z − h(x, y)| + 0.5·|z − 0.5|: weak along a wavy surface h, pulled toward the sheet.
+FieldGrid4 wavy_field() {
+  Grid3 g;
+  g.dims = {33, 33, 33};
+  g.origin = glm::dvec3(-0.05);
+  g.cell = 1.1 / 32.0;
+  for (unsigned z = 0; z < 33; ++z)
+    for (unsigned y = 0; y < 33; ++y)
+      for (unsigned x = 0; x < 33; ++x) {
+        glm::dvec3 p = g.node_position(x, y, z);
+        double h = 0.5 + 0.12 * std::sin(6.0 * p.x) * std::cos(5.0 * p.y);
+        g.values.push_back(float(1.0 + 0.8 * std::abs(p.z - h) + 0.5 * std::abs(p.z - 0.5)));
+      }
+  PyramidOptions po;
+  po.levels = 4;
+  return precompute_field_gradient(build_pyramid_cpu(g, po));
+}
+
+struct RefineRun {
+  FractureSurface s;
+  RefineResult result;
+};
+
+RefineRun run_refine(std::uint64_t seed, int iterations) {
+  static const ExteriorSurface b = make_exterior(unit_cube(), "cube");
+  static const FieldGrid4 field = wavy_field();
+  RefineRun r{sheet(4, 0.5f), {}};
+  auto backend = make_cpu_backend(2);
+  RefineOptions o;
+  o.scale = b.diagonal();
+  o.tau = 0.001;
+  o.delta = 0.01;
+  o.max_iterations = iterations;
+  o.max_triangles = 4000;
+  o.seed = seed;
+  r.result = refine_surface(r.s, field, b, *backend, o);
+  return r;
+}
+
+}  // namespace
+
+TEST(RefineLoop, RefinesKeepsInvariantsAndLowersEnergy) {
+  RefineRun r = run_refine(7, 25);
+  ASSERT_EQ(validate(r.s), "");
+  ASSERT_FALSE(r.result.iterations.empty());
+  EXPECT_GT(r.s.faces.size(), 40u);  // it refined (32 coarse faces)
+  double previous = r.result.initial_energy;
+  for (const IterationStats& st : r.result.iterations) {
+    EXPECT_LE(st.energy, previous * (1.0 + 1e-9)) << "energy rose";
+    previous = st.energy;
+  }
+  EXPECT_LT(r.result.iterations.back().energy, 0.95 * r.result.initial_energy);
+}
+
+TEST(RefineLoop, BoundaryVerticesStayOnTheExterior) {
+  RefineRun r = run_refine(3, 15);
+  for (std::size_t i = 0; i < r.s.positions.size(); ++i) {
+    if (!(r.s.vertex_flags[i] & kVertexBoundary)) continue;
+    glm::vec3 p(r.s.positions[i]);
+    float d = std::min({p.x, 1.0f - p.x, p.y, 1.0f - p.y, p.z, 1.0f - p.z});
+    EXPECT_NEAR(d, 0.0f, 1e-5f) << "vertex " << i;
+  }
+}
+
+TEST(RefineLoop, NoFacesIntersect) {
+  RefineRun r = run_refine(11, 20);
+  std::vector<glm::dvec3> p;
+  for (auto& x : r.s.positions) p.push_back(glm::dvec3(glm::vec3(x)));
+  std::vector<TriangleIds> t;
+  for (auto& f : r.s.faces) t.push_back(TriangleIds{f.x, f.y, f.z});
+  EXPECT_TRUE(find_self_intersections(p, t, 10).empty());
+}
+
+TEST(RefineLoop, SameSeedSameSurfaceDifferentSeedDifferent) {
+  RefineRun a = run_refine(5, 10), b = run_refine(5, 10), c = run_refine(6, 10);
+  ASSERT_EQ(a.s.faces.size(), b.s.faces.size());
+  EXPECT_EQ(0, std::memcmp(a.s.positions.data(), b.s.positions.data(), a.s.positions.size() * sizeof(glm::vec4)));
+  EXPECT_EQ(0, std::memcmp(a.s.faces.data(), b.s.faces.data(), a.s.faces.size() * sizeof(glm::uvec4)));
+  EXPECT_TRUE(a.s.faces.size() != c.s.faces.size() ||
+              std::memcmp(a.s.positions.data(), c.s.positions.data(), a.s.positions.size() * sizeof(glm::vec4)) != 0);
+}
+
+TEST(RefineLoop, IterationCapAndBudgetStop) {
+  RefineRun r = run_refine(9, 3);
+  EXPECT_LE(r.result.iterations.size(), 3u);
+}
+
+TEST(RefineLoop, SplitsRecordTreeWeightsThatReproduceTheCreationPosition) {
+  FractureSurface s = example_t_junction(2);
+  RefinementTree tree = RefinementTree::identity(s.positions.size());
+  std::vector<SplitRequest> req;
+  std::uint32_t nm = 0;
+  while (s.edge_special[nm] != kEdgeNonManifold) ++nm;
+  req.push_back({SplitRequest::kEdge, nm, glm::vec3(0.3f, 0.7f, 0.0f)});
+  std::vector<char> touched(s.faces.size(), 0);
+  for (std::uint32_t k = s.ef_offsets[nm]; k < s.ef_offsets[nm + 1]; ++k) touched[s.ef_faces[k]] = 1;
+  for (std::uint32_t f = 0; f < s.faces.size() && req.size() < 4; ++f)
+    if (!touched[f]) req.push_back({SplitRequest::kFace, f, glm::vec3(0.2f, 0.5f, 0.3f)}), touched[f] = 1;
+  const std::vector<glm::vec4> before = s.positions;
+  const std::size_t faces_before = s.faces.size(), junction_faces = s.ef_offsets[nm + 1] - s.ef_offsets[nm];
+  ASSERT_EQ(apply_splits(s, tree, req), req.size());
+  ASSERT_EQ(validate(s), "");
+  EXPECT_EQ(s.faces.size(), faces_before + junction_faces + 2 * (req.size() - 1));
+  for (std::size_t v = before.size(); v < s.positions.size(); ++v) {
+    glm::vec3 expect(0.0f);
+    for (int k = 0; k < 3; ++k) expect += tree.weights[v][k] * glm::vec3(before[tree.parents[v][k]]);
+    EXPECT_LT(glm::distance(expect, glm::vec3(s.positions[v])), 1e-6f) << "vertex " << v;
+    double sum = 0.0;
+    for (auto [leaf, w] : tree.leaf_weights(std::uint32_t(v))) {
+      sum += w;
+      EXPECT_LT(leaf, before.size());
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-6);
+  }
+}
+
+TEST(RefineLoop, FlipsRemoveSlimTrianglesAndKeepInvariants) {
+  // A slim face (a, b, c) with c close to edge a-b, and its neighbour (b, a, d): flipping a-b
+  // to c-d makes two well-shaped faces of the same flat shape.
+  std::vector<glm::vec4> p = {{0, 0, 0, 1}, {2, 0, 0, 1}, {1, 0.1f, 0, 1}, {1, -1, 0, 1}};
+  FractureSurface s = make_fracture_surface(p, {{0, 1, 2, 0}, {1, 0, 3, 0}}, {{1, 0}, {1, 0}}, 2);
+  std::vector<glm::vec4> psi(s.positions.size(), glm::vec4(1.0f, 0.0f, 0.0f, 0.0f));
+  ExteriorSurface none;
+  EXPECT_EQ(flip_slim_triangles(s, psi, none, FlipOptions{20.0, 5.0}), 1u);
+  ASSERT_EQ(validate(s), "");
+  EXPECT_NE(find_edge(s, 2, 3), kNoEdge);
+  EXPECT_EQ(find_edge(s, 0, 1), kNoEdge);
+  // A bent pair (dihedral above the limit) is left alone: flipping would change the shape.
+  p[2].z = 0.5f;
+  FractureSurface bent = make_fracture_surface(p, {{0, 1, 2, 0}, {1, 0, 3, 0}}, {{1, 0}, {1, 0}}, 2);
+  EXPECT_EQ(flip_slim_triangles(bent, psi, none, FlipOptions{20.0, 5.0}), 0u);
+}
