@@ -1,4 +1,5 @@
 #include "cli_job.hpp"
+#include "cli.hpp"
 
 #include <unistd.h>
 
@@ -12,6 +13,10 @@
 #include "util/atomic_output.hpp"
 #include "util/error.hpp"
 #include "version.hpp"
+#include "cli_backend.hpp"
+#include "cli_progress.hpp"
+#include "pipeline/job.hpp"
+#include "scene/scene.hpp"
 
 namespace fracref::cli {
 namespace fs = std::filesystem;
@@ -63,9 +68,32 @@ int run_exterior_only(const std::string& name, const fs::path& exterior, const J
 
 }  // namespace
 
+/// Runs one scene into o.output through a staged folder, with a progress line on a terminal.
+static int run_scene(const Scene& scene, const JobCliOptions& o, const fs::path* extra_input) {
+  JobOptions jo;
+  jo.stop_after = parse_stage(o.stop_after);
+  jo.seed = o.seed;
+  if (o.preview_frames > 0) jo.preview_frames = o.preview_frames;
+  std::unique_ptr<ComputeBackend> backend = make_backend(o.backend, o.quiet);
+  StagedDirectory out(o.output);
+  if (extra_input) fs::rename(*extra_input, out.path() / "input");
+  ProgressLine line(!o.quiet && stderr_is_terminal());
+  jo.progress = [&](const std::string& stage, double f, const std::string& d) { line.update(stage, f, d); };
+  nlohmann::ordered_json report = run_job(scene, out.path(), *backend, jo);
+  line.done();
+  out.commit();
+  if (!o.quiet) {
+    std::cerr << "fracref: " << scene.name << ": ";
+    if (report.contains("refined_triangles"))
+      std::cerr << report["coarse_triangles"] << " -> " << report["refined_triangles"] << " triangles, ";
+    std::cerr << report["seconds"]["total"].get<double>() << " s; output in " << o.output << "\n";
+  }
+  return kExitOk;
+}
+
 int run_refine(const JobCliOptions& o) {
-  std::cerr << "fracref: 'refine' is not implemented yet in this version\n";
-  return kExitFailure;
+  Scene scene = load_scene(o.scene);
+  return run_scene(scene, o, nullptr);
 }
 
 int run_demo(const JobCliOptions& o) {

@@ -93,10 +93,10 @@ AnimationSpec read_animation(ObjectReader r, const fs::path& dir) {
   return a;
 }
 
-FieldSpec read_field(ObjectReader r, const fs::path& dir) {
+FieldSettings read_field(ObjectReader r, const fs::path& dir) {
   static const std::vector<std::string> types = {"marble", "wood",      "branch",   "brick", "inclusions",
                                                  "perlin", "fbm",       "constant", "grid"};
-  FieldSpec f;
+  FieldSettings f;
   const std::string type = r.choice_required("type", types);
   f.type = FieldType(std::find(types.begin(), types.end(), type) - types.begin());
   const IntRange res_range{2, 1024};

@@ -38,7 +38,7 @@ struct AnimationSpec {
 };
 
 /// The strength field ζ and the grid it is sampled on.
-struct FieldSpec {
+struct FieldSettings {
   FieldType type = FieldType::marble;
   glm::uvec3 resolution{0, 0, 0};  ///< grid nodes per axis, each in [2, 1024]; {0,0,0} for a grid field given without one
   double padding = 0.05;           ///< fraction of the exterior's bbox diagonal added around it
@@ -87,7 +87,7 @@ struct Scene {
   std::filesystem::path exterior;  ///< closed triangle mesh (obj/off/ply)
   FractureSpec fracture;
   AnimationSpec animation;
-  FieldSpec field;
+  FieldSettings field;
   WeightsSpec weights;
   PyramidSpec pyramid;
   RefineSpec refine;

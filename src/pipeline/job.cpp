@@ -1,0 +1,140 @@
+#include "pipeline/job.hpp"
+
+#include <chrono>
+
+#include "coarse/animation.hpp"
+#include "coarse/coarse_model.hpp"
+#include "field/field_sampler.hpp"
+#include "field/procedural.hpp"
+#include "io/mesh_io.hpp"
+#include "pipeline/job_outputs.hpp"
+#include "pipeline/material.hpp"
+#include "pipeline/strength.hpp"
+#include "refine/refine.hpp"
+#include "util/atomic_output.hpp"
+#include "util/error.hpp"
+#include "version.hpp"
+
+namespace fracref {
+namespace fs = std::filesystem;
+
+Stage parse_stage(const std::string& name) {
+  for (Stage s : {Stage::preprocess, Stage::refine, Stage::pieces, Stage::animate})
+    if (name == to_string(s)) return s;
+  throw InputError("--stop-after: unknown stage '" + name + "' (preprocess, refine, pieces, animate)");
+}
+
+const char* to_string(Stage stage) {
+  switch (stage) {
+    case Stage::preprocess: return "preprocess";
+    case Stage::refine: return "refine";
+    case Stage::pieces: return "pieces";
+    case Stage::animate: return "animate";
+  }
+  return "?";
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+CoarseModel load_coarse(const Scene& scene) {
+  const FractureSpec& f = scene.fracture;
+  switch (f.kind) {
+    case FractureKind::tets: {
+      TetModelOptions o;
+      o.virtual_fracture = f.virtual_fracture;
+      return load_tet_model(f.mesh, f.cracks, o);
+    }
+    case FractureKind::pieces: return f.files.empty() ? load_pieces(f.mesh) : load_pieces(f.files);
+    case FractureKind::cuts: break;
+  }
+  throw InputError(scene.file.string() + ": key 'fracture.kind': 'cuts' input is not supported yet in this version");
+}
+
+CoarseAnimation load_animation(const Scene& scene, const CoarseModel& model) {
+  const AnimationSpec& a = scene.animation;
+  if (a.kind == AnimationKind::frames) return load_frames(a.frames, a.first, a.count, a.fps, a.parent_map, model);
+  if (a.kind == AnimationKind::rigid) return load_rigid(a.transforms, a.fps, model);
+  return {};
+}
+
+struct Field {
+  Grid3 zeta;
+  FieldGrid4 sampled;
+};
+
+Field build_field(const Scene& scene, const ExteriorSurface& b, const CoarseModel& model, ComputeBackend& backend) {
+  if (scene.field.type == FieldType::grid)
+    throw InputError(scene.file.string() + ": key 'field.type': 'grid' fields are not supported yet in this version");
+  const double diag = b.diagonal();
+  const glm::dvec3 pad(scene.field.padding * diag);
+  FieldSpec material = material_from_scene(scene.field, scene.file, b.bbox_min, b.bbox_max);
+  Field f;
+  f.zeta = sample_strength(material, b.bbox_min - pad, b.bbox_max + pad, scene.field.resolution);
+  std::vector<glm::dvec3> pos;
+  for (const glm::vec4& p : model.surface.positions) pos.push_back(glm::dvec3(glm::vec3(p)));
+  std::vector<std::array<std::uint32_t, 3>> tris;
+  for (const glm::uvec4& t : model.surface.faces) tris.push_back({t.x, t.y, t.z});
+  Grid3 psi = modified_field(f.zeta, distance_grid(f.zeta, pos, tris), scene.weights, diag);
+  PyramidOptions po;
+  po.levels = scene.pyramid.levels;
+  po.sigma = float(scene.pyramid.sigma);
+  f.sampled = precompute_field_gradient(backend.build_pyramid(psi, po));
+  return f;
+}
+
+RefineOptions refine_options(const Scene& scene, const JobOptions& o, double diag) {
+  RefineOptions r;
+  r.scale = diag;
+  r.tau = scene.refine.tau;
+  r.delta = scene.refine.delta;
+  r.step = scene.refine.step;
+  r.tolerance = scene.refine.tolerance;
+  r.max_iterations = scene.refine.max_iterations;
+  r.max_triangles = std::size_t(scene.refine.max_triangles);
+  r.seed = o.seed.value_or(scene.refine.seed);
+  r.min_angle = scene.refine.min_angle;
+  r.collisions = scene.refine.collisions;
+  return r;
+}
+
+}  // namespace
+
+nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeBackend& backend, const JobOptions& o) {
+  const auto t0 = Clock::now();
+  auto progress = [&](const std::string& stage, double f, const std::string& d) {
+    if (o.progress) o.progress(stage, f, d);
+  };
+  JobReport report(scene, backend.name(), o.seed.value_or(scene.refine.seed));
+  progress("load", 0.0, scene.exterior.filename().string());
+  MeshSoup exterior_mesh = read_mesh(scene.exterior);
+  ExteriorSurface b = make_exterior(exterior_mesh, scene.exterior.string());
+  CoarseModel model = load_coarse(scene);
+  CoarseAnimation animation = load_animation(scene, model);
+  report.coarse(model, animation);
+  write_surface_ply(out / "coarse_surface.ply", model.surface, nullptr);
+  if (o.stop_after == Stage::preprocess) {
+    report.seconds("setup", seconds_since(t0));
+    return report.finish(out, seconds_since(t0), [&] { return preview_surface(model.surface, exterior_mesh); });
+  }
+  progress("field", 0.0, "strength field and pyramid");
+  Field field = build_field(scene, b, model, backend);
+  report.seconds("setup", seconds_since(t0));
+  const auto t_refine = Clock::now();
+  FractureSurface s = model.surface;
+  RefineOptions ro = refine_options(scene, o, b.diagonal());
+  RefineResult refined = refine_surface(s, field.sampled, b, backend, ro, [&](const IterationStats& st, int it, int max) {
+    progress("refine", double(it + 1) / max, std::to_string(st.triangles) + " triangles");
+  });
+  report.seconds("refine", seconds_since(t_refine));
+  report.refined(model.surface, s, refined, field.zeta);
+  write_surface_ply(out / "fracture_surface.ply", s, &refined.tree);
+  write_mesh(out / "exterior.ply", exterior_mesh);
+  if (o.stop_after != Stage::refine)
+    report.note("the pieces and animate stages are not implemented yet in this version; stopped after refine");
+  return report.finish(out, seconds_since(t0), [&] { return preview_surface(s, exterior_mesh); });
+}
+
+}  // namespace fracref

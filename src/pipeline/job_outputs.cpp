@@ -1,0 +1,120 @@
+#include "pipeline/job_outputs.hpp"
+
+#include "field/field_sampler.hpp"
+#include "io/mesh_io.hpp"
+#include "util/atomic_output.hpp"
+#include "version.hpp"
+
+namespace fracref {
+
+JobReport::JobReport(const Scene& scene, const std::string& backend, std::uint64_t seed) : scene_(scene) {
+  j_["version"] = kVersion;
+  j_["scene"] = scene.name;
+  j_["backend"] = backend;
+  j_["seed"] = seed;
+  j_["seconds"] = nlohmann::ordered_json::object();
+}
+
+void JobReport::coarse(const CoarseModel& model, const CoarseAnimation& animation) {
+  j_["coarse_triangles"] = model.surface.faces.size();
+  j_["pieces"] = model.piece_count;
+  j_["virtual_fracture"] = {{"faces_added", model.virtual_faces_added}, {"area_added", model.virtual_area_added}};
+  j_["frames"] = animation.frames.size();
+}
+
+void JobReport::refined(const FractureSurface& coarse, const FractureSurface& refined, const RefineResult& r,
+                        const Grid3& zeta) {
+  j_["refined_triangles"] = refined.faces.size();
+  j_["initial_energy"] = r.initial_energy;
+  const char* stops[] = {"converged", "triangle budget", "iteration cap"};
+  j_["stop"] = stops[int(r.stop)];
+  nlohmann::ordered_json its = nlohmann::ordered_json::array();
+  for (const IterationStats& st : r.iterations)
+    its.push_back({{"energy", st.energy}, {"triangles", st.triangles}, {"max_displacement", st.max_displacement},
+                   {"collisions_stopped", st.collisions_stopped}, {"splits", st.splits}, {"flips", st.flips},
+                   {"dt", st.dt}});
+  j_["iterations"] = its;
+  j_["mean_strength"] = {{"coarse", mean_strength(coarse, zeta)}, {"refined", mean_strength(refined, zeta)}};
+}
+
+void JobReport::seconds(const std::string& key, double value) { j_["seconds"][key] = value; }
+
+void JobReport::note(const std::string& text) { j_["notes"].push_back(text); }
+
+nlohmann::ordered_json JobReport::finish(const std::filesystem::path& out, double total,
+                                         const std::function<Image()>& preview) {
+  if (scene_.output.preview) write_png(out / "preview.png", preview());
+  j_["seconds"]["total"] = total;
+  write_file_atomic(out / "report.json", j_.dump(2) + "\n");
+  return j_;
+}
+
+void write_surface_ply(const std::filesystem::path& path, const FractureSurface& s, const RefinementTree* tree) {
+  MeshSoup m;
+  for (const glm::vec4& p : s.positions) m.positions.push_back(glm::dvec3(glm::vec3(p)));
+  for (const glm::uvec4& f : s.faces) m.triangles.push_back({f.x, f.y, f.z});
+  PropertyColumn front{"front", PropertyType::Int32, {}}, back{"back", PropertyType::Int32, {}};
+  for (const glm::ivec2& p : s.face_pieces) front.values.push_back(p.x), back.values.push_back(p.y);
+  m.face_properties = {front, back};
+  PropertyColumn flags{"flags", PropertyType::UInt8, {}};
+  for (std::uint32_t f : s.vertex_flags) flags.values.push_back(f);
+  m.vertex_properties.push_back(flags);
+  if (tree) {
+    for (int k = 0; k < 3; ++k) {
+      PropertyColumn parent{"parent" + std::to_string(k), PropertyType::UInt32, {}};
+      PropertyColumn weight{"weight" + std::to_string(k), PropertyType::Float32, {}};
+      for (std::size_t v = 0; v < tree->parents.size(); ++v)
+        parent.values.push_back(tree->parents[v][k]), weight.values.push_back(tree->weights[v][k]);
+      m.vertex_properties.push_back(parent);
+      m.vertex_properties.push_back(weight);
+    }
+  }
+  write_mesh(path, m);
+}
+
+double mean_strength(const FractureSurface& s, const Grid3& zeta) {
+  std::vector<double> z(s.positions.size());
+  for (std::size_t i = 0; i < z.size(); ++i) z[i] = sample_trilinear(zeta, glm::dvec3(glm::vec3(s.positions[i])));
+  double area = 0.0, acc = 0.0;
+  for (const glm::uvec4& f : s.faces) {
+    glm::dvec3 a(glm::vec3(s.positions[f.x])), b(glm::vec3(s.positions[f.y])), c(glm::vec3(s.positions[f.z]));
+    double A = 0.5 * glm::length(glm::cross(b - a, c - a));
+    area += A;
+    acc += A * (z[f.x] + z[f.y] + z[f.z]) / 3.0;
+  }
+  return area > 0.0 ? acc / area : 0.0;
+}
+
+namespace {
+
+glm::vec3 piece_color(int piece) {
+  static const glm::vec3 palette[] = {{0.90f, 0.35f, 0.30f}, {0.30f, 0.60f, 0.90f}, {0.40f, 0.80f, 0.40f},
+                                      {0.95f, 0.75f, 0.25f}, {0.65f, 0.45f, 0.85f}, {0.30f, 0.80f, 0.80f},
+                                      {0.90f, 0.50f, 0.70f}, {0.60f, 0.60f, 0.35f}};
+  return palette[std::size_t(piece) % 8];
+}
+
+}  // namespace
+
+Image preview_surface(const FractureSurface& s, const MeshSoup& exterior) {
+  PreviewMesh fracture;
+  for (const glm::vec4& p : s.positions) fracture.positions.push_back(glm::dvec3(glm::vec3(p)));
+  for (std::size_t f = 0; f < s.faces.size(); ++f) {
+    fracture.triangles.push_back({s.faces[f].x, s.faces[f].y, s.faces[f].z});
+    fracture.triangle_colors.push_back(piece_color(s.face_pieces[f].x));
+  }
+  PreviewMesh outside;
+  outside.positions = exterior.positions;
+  outside.triangles = exterior.triangles;
+  outside.triangle_colors.assign(exterior.triangles.size(), glm::vec3(0.80f, 0.80f, 0.84f));
+  RenderOptions ro;
+  ro.width = 640;
+  ro.height = 540;
+  // Both views share the exterior's framing so they line up.
+  PreviewMesh frame = outside;
+  frame.triangles.clear();
+  frame.triangle_colors.clear();
+  return contact_sheet({render_preview({fracture, frame}, ro), render_preview({outside}, ro)}, 2);
+}
+
+}  // namespace fracref

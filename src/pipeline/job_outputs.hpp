@@ -1,0 +1,48 @@
+#pragma once
+// What a job writes besides the meshes: report.json, the surface PLY with its per-face pieces and
+// per-vertex tree data, and the preview picture.
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "coarse/animation.hpp"
+#include "coarse/coarse_model.hpp"
+#include "field/grid.hpp"
+#include "io/mesh_soup.hpp"
+#include "preview/raster.hpp"
+#include "refine/refine.hpp"
+#include "scene/scene.hpp"
+
+namespace fracref {
+
+/// Builds report.json (keys documented in the README, "Outputs").
+class JobReport {
+ public:
+  JobReport(const Scene& scene, const std::string& backend, std::uint64_t seed);
+  void coarse(const CoarseModel& model, const CoarseAnimation& animation);
+  void refined(const FractureSurface& coarse, const FractureSurface& refined, const RefineResult& result,
+               const Grid3& zeta);
+  void seconds(const std::string& key, double value);
+  void note(const std::string& text);
+  /// Renders the preview (when the scene asks for one), writes report.json, returns the report.
+  nlohmann::ordered_json finish(const std::filesystem::path& out, double total_seconds,
+                                const std::function<Image()>& preview);
+
+ private:
+  const Scene& scene_;
+  nlohmann::ordered_json j_;
+};
+
+/// S as PLY: face properties `front`, `back` (the pieces), vertex property `flags`, and with a
+/// tree, `parent0..2` and `weight0..2` (the refinement tree). \throw RunError on I/O failure.
+void write_surface_ply(const std::filesystem::path& path, const FractureSurface& s, const RefinementTree* tree);
+
+/// Area-weighted mean of ζ over S (ζ trilinear at the corners, averaged per face).
+double mean_strength(const FractureSurface& s, const Grid3& zeta);
+
+/// Two views side by side: the fracture surface coloured by piece, and the exterior.
+Image preview_surface(const FractureSurface& s, const MeshSoup& exterior);
+
+}  // namespace fracref
