@@ -31,10 +31,22 @@ struct BlurWeights {
   vec4 w[FRACREF_BLUR_WEIGHT_VEC4S];
 };
 
+// ---- The flow kernels K1, K2, K3 (shaders/flow_sample.comp, flow_velocity.comp, flow_samples.comp) ----
+// One uniform block shared by the three kernels, written by the host before every submit: the
+// command buffers are recorded once per buffer size class and replayed, so the element counts
+// (which change every call) cannot be push constants. Dispatch sizes come from an indirect
+// buffer written at the same time.
+struct FlowParams {
+  uvec4 field_dims;    // nx, ny, nz of the FieldGrid4 (all >= 2), unused
+  vec4 field_origin;   // x, y, z of node (0, 0, 0), cell size (floats, as sample_field uses them)
+  uvec4 counts;        // vertices (K1, K2), samples (K3), unused, unused
+};
+
 #ifdef __cplusplus
 static_assert(sizeof(BlurParams) == 32);
 static_assert(sizeof(BlurWeights) == 16 * FRACREF_BLUR_WEIGHT_VEC4S);
 static_assert(4 * FRACREF_BLUR_WEIGHT_VEC4S >= 2 * FRACREF_BLUR_MAX_RADIUS + 1);
+static_assert(sizeof(FlowParams) == 48);
 }  // namespace fracref::gpu
 #endif
 

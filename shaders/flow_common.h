@@ -1,0 +1,71 @@
+// GLSL only: the arithmetic the flow kernels share with their CPU twins, operation for
+// operation, so that both backends agree to rounding (bit for bit where the device rounds
+// division and sqrt correctly and honours `precise`, as lavapipe does):
+//   flow_sample_field       = sample_field            (src/field/field_sampler.cpp)
+//   flow_accumulate_face    = accumulate_face_gradient (src/flow/velocity.cpp)
+// GLM's formulas are spelled out (mix, cross, length) because GLSL leaves the built-ins'
+// operation order to the implementation; `precise` forbids fused multiply-adds, which the
+// CPU build (x86-64 without -mfma) never forms either.
+#ifndef FRACREF_FLOW_COMMON_H
+#define FRACREF_FLOW_COMMON_H
+
+// glm::mix(a, b, t) = a * (1 - t) + b * t.
+vec4 flow_mix(vec4 a, vec4 b, float t) {
+  precise vec4 r = a * (1.0 - t) + b * t;
+  return r;
+}
+
+// glm::cross.
+vec3 flow_cross(vec3 x, vec3 y) {
+  precise vec3 r = vec3(x.y * y.z - y.y * x.z, x.z * y.x - y.z * x.x, x.x * y.y - y.x * x.y);
+  return r;
+}
+
+// Node (x, y, z) of a grid of `dims` stored x fastest in a vec4 texel buffer.
+vec4 flow_node(samplerBuffer grid, uvec3 dims, uint x, uint y, uint z) {
+  return texelFetch(grid, int(x + dims.x * (y + dims.y * z)));
+}
+
+// (ψ, ∇ψ) at p: g = (p − origin) / cell; i = clamp(floor(g), 0, n − 2); t = g − i (p clamped
+// into the box), then trilinear interpolation of the four channels, x first, then y, then z.
+vec4 flow_sample_field(samplerBuffer grid, uvec3 dims, vec4 origin_cell, vec3 p) {
+  precise vec3 g = (p - origin_cell.xyz) / origin_cell.w;
+  uvec3 i0;
+  precise vec3 t;
+  for (int a = 0; a < 3; ++a) {
+    const float c = clamp(g[a], 0.0, float(dims[a] - 1u));
+    i0[a] = min(uint(floor(c)), dims[a] - 2u);
+    t[a] = c - float(i0[a]);
+  }
+  const uvec3 i1 = i0 + 1u;
+  const vec4 c00 = flow_mix(flow_node(grid, dims, i0.x, i0.y, i0.z), flow_node(grid, dims, i1.x, i0.y, i0.z), t.x);
+  const vec4 c10 = flow_mix(flow_node(grid, dims, i0.x, i1.y, i0.z), flow_node(grid, dims, i1.x, i1.y, i0.z), t.x);
+  const vec4 c01 = flow_mix(flow_node(grid, dims, i0.x, i0.y, i1.z), flow_node(grid, dims, i1.x, i0.y, i1.z), t.x);
+  const vec4 c11 = flow_mix(flow_node(grid, dims, i0.x, i1.y, i1.z), flow_node(grid, dims, i1.x, i1.y, i1.z), t.x);
+  return flow_mix(flow_mix(c00, c10, t.y), flow_mix(c01, c11, t.y), t.z);
+}
+
+// One face (i, a, b) in its own orientation: grad += (A/3)∇ψ(x_i) + ½(n̂ × (x_b − x_a))ψ̄,
+// mass += A/3; a degenerate face (zero or NaN area) adds nothing.
+void flow_accumulate_face(vec3 xi, vec3 xa, vec3 xb, vec4 si, float psi_a, float psi_b, inout vec3 grad,
+                          inout float mass) {
+  const vec3 c = flow_cross(xa - xi, xb - xi);
+  precise float twice_area = sqrt(c.x * c.x + c.y * c.y + c.z * c.z);
+  if (!(twice_area > 0.0)) return;
+  precise vec3 n = c / twice_area;
+  precise float third_area = twice_area * (1.0 / 6.0);
+  precise float psi_mean = (si.x + psi_a + psi_b) * (1.0 / 3.0);
+  precise vec3 term = third_area * si.yzw + 0.5 * psi_mean * flow_cross(n, xb - xa);
+  precise vec3 sum = grad + term;
+  precise float m = mass + third_area;
+  grad = sum;
+  mass = m;
+}
+
+// v = −grad / mass and the mass; zero when no face had an area.
+vec3 flow_velocity(vec3 grad, float mass) {
+  precise vec3 v = -grad / mass;
+  return mass > 0.0 ? v : vec3(0.0);
+}
+
+#endif
