@@ -1,0 +1,291 @@
+// build_pieces: snap, trace, insert, patches, merge (pieces.hpp).
+#include <algorithm>
+#include <map>
+
+#include "pieces/pieces.hpp"
+#include "pieces/pieces_internal.hpp"
+#include "util/error.hpp"
+
+namespace fracref {
+namespace {
+
+using namespace pieces_detail;
+using Tri = std::array<std::uint32_t, 3>;
+using DirectedEdge = std::pair<std::uint32_t, std::uint32_t>;
+
+std::string vertex_pair(std::uint32_t a, std::uint32_t b) { return std::to_string(a) + "-" + std::to_string(b); }
+
+class PieceBuilder {
+ public:
+  PieceBuilder(const FractureSurface& s, const MeshSoup& exterior, const PieceOptions& options)
+      : s_(s), m_(make_exterior_mesh(exterior)), options_(options) {}
+
+  PieceSet run() {
+    init_vertices();
+    snap_boundary();
+    add_exterior_vertices();
+    trace_boundary();
+    b_triangles_ = cut_exterior(m_, cut_, out_.positions, options_.delaunay);
+    remesh_fracture_faces();
+    assemble(assign_patches());
+    return std::move(out_);
+  }
+
+ private:
+  std::uint32_t new_vertex(const glm::dvec3& p, std::int64_t origin, const Location* loc) {
+    const std::uint32_t id = std::uint32_t(out_.positions.size());
+    out_.positions.push_back(p);
+    out_.vertex_origin.push_back(origin);
+    cut_.location.push_back(loc ? *loc : Location{});
+    cut_.on_b.push_back(loc ? 1 : 0);
+    return id;
+  }
+
+  void init_vertices() {
+    out_.s_vertex_count = std::uint32_t(s_.positions.size());
+    for (std::uint32_t v = 0; v < s_.positions.size(); ++v) new_vertex(glm::dvec3(s_.positions[v]), v, nullptr);
+    b_owner_.assign(m_.positions.size(), kNone);
+  }
+
+  void snap_boundary() {
+    std::vector<char> boundary(s_.positions.size(), 0);
+    for (std::uint32_t e = 0; e < s_.edges.size(); ++e)
+      if (s_.edge_special[e] == kEdgeBoundary) boundary[s_.edges[e].x] = boundary[s_.edges[e].y] = 1;
+    const double tolerance = options_.snap_tolerance * m_.diagonal;
+    for (std::uint32_t v = 0; v < boundary.size(); ++v) {
+      if (!boundary[v]) continue;
+      double distance = 0.0;
+      const Location loc = locate_on_exterior(m_, out_.positions[v], options_.location_epsilon, &distance);
+      if (!(distance <= tolerance))
+        throw RunError("fracture surface boundary vertex " + std::to_string(v) + " at " + format_point(out_.positions[v]) +
+                       " is " + std::to_string(distance) + " from the exterior (tolerance " + std::to_string(tolerance) +
+                       "): the fracture surface must end on the exterior");
+      if (loc.kind == Location::kVertex) {
+        if (b_owner_[loc.id] != kNone)
+          throw RunError("fracture surface vertices " + std::to_string(b_owner_[loc.id]) + " and " + std::to_string(v) +
+                         " both lie on exterior vertex " + std::to_string(loc.id) + " at " + format_point(loc.point));
+        b_owner_[loc.id] = v;
+        ++out_.snapped_to_b_vertex;
+      } else if (loc.kind == Location::kEdge) {
+        cut_.edge_points[loc.id].emplace_back(loc.t, v);
+      } else {
+        cut_.face_points[loc.id].push_back(v);
+      }
+      out_.positions[v] = loc.point;
+      cut_.location[v] = loc;
+      cut_.on_b[v] = 1;
+    }
+  }
+
+  void add_exterior_vertices() {
+    cut_.b_vertex_gid.assign(m_.positions.size(), kNone);
+    for (std::uint32_t b = 0; b < m_.positions.size(); ++b) {
+      if (m_.vf_offsets[b] == m_.vf_offsets[b + 1]) continue;  // unused by B's triangles
+      if (b_owner_[b] != kNone) {
+        cut_.b_vertex_gid[b] = b_owner_[b];
+        continue;
+      }
+      const Location loc = vertex_location(m_, b);
+      cut_.b_vertex_gid[b] = new_vertex(loc.point, -1 - std::int64_t(b), &loc);
+    }
+  }
+
+  // The global id of an intermediate point of the trace of S edge p-q.
+  std::uint32_t trace_point(const Location& loc, std::uint32_t p, std::uint32_t q) {
+    if (loc.kind == Location::kVertex) {
+      if (b_owner_[loc.id] != kNone)
+        throw RunError("the trace of fracture surface boundary edge " + vertex_pair(p, q) +
+                       " runs through fracture surface vertex " + std::to_string(b_owner_[loc.id]));
+      return cut_.b_vertex_gid[loc.id];
+    }
+    if (loc.kind != Location::kEdge) throw RunError("the trace of boundary edge " + vertex_pair(p, q) + " stopped inside a triangle");
+    const std::uint32_t id = new_vertex(loc.point, kCrossing, &loc);
+    cut_.edge_points[loc.id].emplace_back(loc.t, id);
+    CrossingPoint c;
+    c.vertex = id;
+    c.s_from = p;
+    c.s_to = q;
+    c.b_from = m_.edges[loc.id].x;
+    c.b_to = m_.edges[loc.id].y;
+    c.t = loc.t;
+    out_.crossings.push_back(c);
+    return id;
+  }
+
+  void trace_boundary() {
+    for (std::uint32_t e = 0; e < s_.edges.size(); ++e) {
+      if (s_.edge_special[e] != kEdgeBoundary) continue;
+      const std::uint32_t f = s_.ef_faces[s_.ef_offsets[e]];
+      const glm::uvec4 face = s_.faces[f];
+      int k = 0;
+      while (!((face[k] == s_.edges[e].x || face[k] == s_.edges[e].y) &&
+               (face[(k + 1) % 3] == s_.edges[e].x || face[(k + 1) % 3] == s_.edges[e].y)))
+        ++k;
+      trace_edge(f, k, face[k], face[(k + 1) % 3]);
+    }
+  }
+
+  void trace_edge(std::uint32_t f, int k, std::uint32_t p, std::uint32_t q) {
+    Trace trace;
+    try {
+      trace = trace_on_exterior(m_, cut_.location[p], cut_.location[q], options_.plane_epsilon * m_.diagonal);
+    } catch (const RunError& err) {
+      throw RunError("fracture surface boundary edge " + vertex_pair(p, q) + " (face " + std::to_string(f) + ") from " +
+                     format_point(out_.positions[p]) + " to " + format_point(out_.positions[q]) +
+                     " cannot be traced on the exterior: " + err.what());
+    }
+    const std::size_t first_crossing = out_.crossings.size();
+    std::vector<std::uint32_t> path{p};
+    for (std::size_t i = 0; i + 1 < trace.steps.size(); ++i) path.push_back(trace_point(trace.steps[i].to, p, q));
+    path.push_back(q);
+    std::vector<double> along(path.size(), 0.0);
+    for (std::size_t i = 0; i < trace.steps.size(); ++i) {
+      cut_.segments.push_back({path[i], path[i + 1], trace.steps[i].face});
+      along[i + 1] = along[i] + glm::length(out_.positions[path[i + 1]] - out_.positions[path[i]]);
+      mark_cut(path[i], path[i + 1], f);
+    }
+    for (std::size_t c = first_crossing, i = 1; c < out_.crossings.size(); ++c) {
+      while (path[i] != out_.crossings[c].vertex) ++i;
+      out_.crossings[c].along = along[i] / along.back();
+    }
+    paths_[{f, k}] = std::vector<std::uint32_t>(path.begin() + 1, path.end() - 1);
+  }
+
+  // A patch face using (a, b) in the winding of S face f lies in f's front piece.
+  void mark_cut(std::uint32_t a, std::uint32_t b, std::uint32_t f) {
+    const glm::ivec2 pieces = s_.face_pieces[f];
+    if (!cut_piece_.emplace(DirectedEdge{a, b}, pieces.x).second || !cut_piece_.emplace(DirectedEdge{b, a}, pieces.y).second)
+      throw RunError("the traces of two fracture surface boundary edges overlap between " + format_point(out_.positions[a]) +
+                     " and " + format_point(out_.positions[b]));
+  }
+
+  void remesh_fracture_faces() {
+    s_triangles_.resize(s_.faces.size());
+    for (std::uint32_t f = 0; f < s_.faces.size(); ++f) {
+      std::vector<std::uint32_t> polygon;
+      std::vector<unsigned> mask;
+      for (int k = 0; k < 3; ++k) {
+        polygon.push_back(s_.faces[f][k]);
+        mask.push_back((1u << k) | (1u << ((k + 2) % 3)));
+        auto it = paths_.find({f, k});
+        if (it == paths_.end()) continue;
+        for (std::uint32_t g : it->second) polygon.push_back(g), mask.push_back(1u << k);
+      }
+      if (polygon.size() == 3) {
+        s_triangles_[f].push_back({polygon[0], polygon[1], polygon[2]});
+        continue;
+      }
+      std::vector<glm::dvec3> xyz;
+      for (std::uint32_t g : polygon) xyz.push_back(out_.positions[g]);
+      const glm::dvec3 corner = out_.positions[s_.faces[f][0]];
+      const glm::dvec3 normal =
+          glm::cross(out_.positions[s_.faces[f][1]] - corner, out_.positions[s_.faces[f][2]] - corner);
+      try {
+        for (const Tri& t : triangulate_fracture_polygon(xyz, mask, normal))
+          s_triangles_[f].push_back({polygon[t[0]], polygon[t[1]], polygon[t[2]]});
+      } catch (const RunError& err) {
+        throw RunError("fracture surface face " + std::to_string(f) + " near " + format_point(xyz[0]) +
+                       ": cannot insert the traced boundary points: " + err.what());
+      }
+    }
+  }
+
+  // Flood fill of the cut B across edges that are not on a trace; each patch's piece.
+  std::vector<int> assign_patches() {
+    std::vector<std::array<std::uint32_t, 3>> keyed;  // (min, max, face)
+    for (std::uint32_t t = 0; t < b_triangles_.size(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = b_triangles_[t][k], b = b_triangles_[t][(k + 1) % 3];
+        keyed.push_back({std::min(a, b), std::max(a, b), t});
+      }
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<std::uint32_t> parent(b_triangles_.size());
+    for (std::uint32_t t = 0; t < parent.size(); ++t) parent[t] = t;
+    auto find = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    for (std::size_t i = 0; i < keyed.size(); i += 2) {
+      if (i + 1 >= keyed.size() || keyed[i + 1][0] != keyed[i][0] || keyed[i + 1][1] != keyed[i][1] ||
+          (i + 2 < keyed.size() && keyed[i + 2][0] == keyed[i][0] && keyed[i + 2][1] == keyed[i][1]))
+        throw RunError("internal: the cut exterior is not closed at edge " + vertex_pair(keyed[i][0], keyed[i][1]));
+      if (cut_piece_.count({keyed[i][0], keyed[i][1]})) continue;
+      const std::uint32_t ra = find(keyed[i][2]), rb = find(keyed[i + 1][2]);
+      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+    std::map<std::uint32_t, int> patch_piece;
+    for (std::uint32_t t = 0; t < b_triangles_.size(); ++t) {
+      const std::uint32_t root = find(t);
+      for (int k = 0; k < 3; ++k) {
+        auto it = cut_piece_.find({b_triangles_[t][k], b_triangles_[t][(k + 1) % 3]});
+        if (it == cut_piece_.end()) continue;
+        auto [at, inserted] = patch_piece.emplace(root, it->second);
+        if (!inserted && at->second != it->second)
+          throw RunError("the part of the exterior around " + format_point(out_.positions[b_triangles_[root][0]]) +
+                         " borders pieces " + std::to_string(at->second) + " and " + std::to_string(it->second) +
+                         " along the cut: the fracture surface does not split the exterior consistently");
+      }
+    }
+    std::vector<int> piece(b_triangles_.size());
+    for (std::uint32_t t = 0; t < b_triangles_.size(); ++t) {
+      const std::uint32_t root = find(t);
+      auto it = patch_piece.find(root);
+      if (it == patch_piece.end()) it = patch_piece.emplace(root, untouched_piece(b_triangles_[root])).first;
+      piece[t] = it->second;
+    }
+    return piece;
+  }
+
+  // A B component no trace touches lies in the piece on the side of the nearest S face.
+  int untouched_piece(const Tri& t) const {
+    const glm::dvec3 x = (out_.positions[t[0]] + out_.positions[t[1]] + out_.positions[t[2]]) / 3.0;
+    double best = std::numeric_limits<double>::infinity();
+    int piece = 0;
+    for (std::uint32_t f = 0; f < s_.faces.size(); ++f) {
+      const glm::dvec3 a = out_.positions[s_.faces[f].x], b = out_.positions[s_.faces[f].y], c = out_.positions[s_.faces[f].z];
+      const ClosestPoint cp = closest_point_on_triangle(x, a, b, c);
+      if (!(cp.squared_distance < best)) continue;
+      best = cp.squared_distance;
+      piece = glm::dot(x - cp.point, glm::cross(b - a, c - a)) >= 0.0 ? s_.face_pieces[f].x : s_.face_pieces[f].y;
+    }
+    return piece;
+  }
+
+  void assemble(const std::vector<int>& b_piece) {
+    out_.pieces.resize(std::size_t(std::max(s_.piece_count, 1)));
+    for (std::uint32_t f = 0; f < s_.faces.size(); ++f) {
+      PieceSet::Piece& front = out_.pieces[std::size_t(s_.face_pieces[f].x)];
+      PieceSet::Piece& back = out_.pieces[std::size_t(s_.face_pieces[f].y)];
+      for (const Tri& t : s_triangles_[f]) {
+        back.triangles.push_back(t);
+        back.inside.push_back(1);
+        front.triangles.push_back({t[0], t[2], t[1]});
+        front.inside.push_back(1);
+      }
+    }
+    for (std::uint32_t t = 0; t < b_triangles_.size(); ++t) {
+      PieceSet::Piece& piece = out_.pieces[std::size_t(b_piece[t])];
+      piece.triangles.push_back(b_triangles_[t]);
+      piece.inside.push_back(0);
+    }
+  }
+
+  const FractureSurface& s_;
+  ExteriorMesh m_;
+  PieceOptions options_;
+  PieceSet out_;
+  ExteriorCut cut_;
+  std::vector<std::uint32_t> b_owner_;                       // per B vertex: the S vertex on it
+  std::map<std::pair<std::uint32_t, int>, std::vector<std::uint32_t>> paths_;  // (S face, side) -> inner trace points
+  std::map<DirectedEdge, int> cut_piece_;                    // directed cut edge -> piece of the patch face using it
+  std::vector<Tri> b_triangles_;
+  std::vector<std::vector<Tri>> s_triangles_;
+};
+
+}  // namespace
+
+PieceSet build_pieces(const FractureSurface& s, const MeshSoup& exterior, const PieceOptions& options) {
+  return PieceBuilder(s, exterior, options).run();
+}
+
+}  // namespace fracref

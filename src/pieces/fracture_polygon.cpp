@@ -1,0 +1,108 @@
+// Re-triangulation of a fracture face whose sides carry trace points. A triangle with all three
+// corners on one side would lie along B (a sliver folded onto the exterior), so none is made:
+// with one cut side the result is the fan from the opposite corner; with more, ear clipping in
+// the face's plane takes the best-shaped allowed ear first.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "geom/predicates.hpp"
+#include "pieces/pieces_internal.hpp"
+#include "util/error.hpp"
+
+namespace fracref::pieces_detail {
+namespace {
+
+using Tri = std::array<std::uint32_t, 3>;
+
+double min_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+  auto angle = [](const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& r) {
+    const glm::dvec3 u = q - p, v = r - p;
+    return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
+  };
+  return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)});
+}
+
+class EarClipper {
+ public:
+  EarClipper(const std::vector<glm::dvec3>& polygon, const std::vector<unsigned>& mask, const glm::dvec3& normal)
+      : xyz_(polygon), mask_(mask) {
+    const glm::dvec3 n = glm::normalize(normal);
+    const glm::dvec3 a = std::abs(n.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+    const glm::dvec3 e1 = glm::normalize(glm::cross(n, a)), e2 = glm::cross(n, e1);
+    for (const glm::dvec3& p : polygon) uv_.emplace_back(glm::dot(p - polygon[0], e1), glm::dot(p - polygon[0], e2));
+  }
+
+  std::vector<Tri> fan(std::uint32_t apex) {
+    std::vector<Tri> out;
+    const std::uint32_t n = std::uint32_t(xyz_.size());
+    for (std::uint32_t i = 1; i + 1 < n; ++i) {
+      const Tri t{apex, (apex + i) % n, (apex + i + 1) % n};
+      if (orient(t[0], t[1], t[2]) <= 0) throw RunError("the traced boundary is not visible from the opposite corner");
+      out.push_back(t);
+    }
+    return out;
+  }
+
+  std::vector<Tri> clip() {
+    std::vector<std::uint32_t> ring(xyz_.size());
+    for (std::uint32_t i = 0; i < ring.size(); ++i) ring[i] = i;
+    std::vector<Tri> out;
+    while (ring.size() > 3) {
+      std::size_t best = ring.size();
+      double best_score = -1.0;
+      for (std::size_t i = 0; i < ring.size(); ++i) {
+        const std::uint32_t u = ring[(i + ring.size() - 1) % ring.size()], v = ring[i], w = ring[(i + 1) % ring.size()];
+        if (!is_ear(ring, u, v, w)) continue;
+        const double score = min_angle(xyz_[u], xyz_[v], xyz_[w]);
+        if (score > best_score) best_score = score, best = i;
+      }
+      if (best == ring.size()) throw RunError("no valid ear is left while re-triangulating it");
+      out.push_back({ring[(best + ring.size() - 1) % ring.size()], ring[best], ring[(best + 1) % ring.size()]});
+      ring.erase(ring.begin() + std::ptrdiff_t(best));
+    }
+    if ((mask_[ring[0]] & mask_[ring[1]] & mask_[ring[2]]) != 0 || orient(ring[0], ring[1], ring[2]) <= 0)
+      throw RunError("its last triangle would be degenerate");
+    out.push_back({ring[0], ring[1], ring[2]});
+    return out;
+  }
+
+ private:
+  int orient(std::uint32_t a, std::uint32_t b, std::uint32_t c) const { return orient2d(uv_[a], uv_[b], uv_[c]); }
+
+  // An ear (u, v, w) must be strictly convex and empty, and its diagonal (u, w) must not join
+  // two points of one side: the part it cuts off would be a chain of that side only.
+  bool is_ear(const std::vector<std::uint32_t>& ring, std::uint32_t u, std::uint32_t v, std::uint32_t w) const {
+    if ((mask_[u] & mask_[w]) != 0) return false;
+    if (orient(u, v, w) <= 0) return false;
+    for (std::uint32_t z : ring) {
+      if (z == u || z == v || z == w) continue;
+      if (orient(u, v, z) >= 0 && orient(v, w, z) >= 0 && orient(w, u, z) >= 0) return false;
+    }
+    return true;
+  }
+
+  const std::vector<glm::dvec3>& xyz_;
+  const std::vector<unsigned>& mask_;
+  std::vector<glm::dvec2> uv_;
+};
+
+}  // namespace
+
+std::vector<std::array<std::uint32_t, 3>> triangulate_fracture_polygon(const std::vector<glm::dvec3>& polygon,
+                                                                       const std::vector<unsigned>& side_mask,
+                                                                       const glm::dvec3& normal) {
+  if (polygon.size() == 3) return {{0, 1, 2}};
+  EarClipper clipper(polygon, side_mask, normal);
+  // One cut side: the fan from the corner off that side is the only allowed triangulation.
+  unsigned cut_sides = 0;
+  for (unsigned m : side_mask)
+    if (m == 1u || m == 2u || m == 4u) cut_sides |= m;
+  if (cut_sides == 1u || cut_sides == 2u || cut_sides == 4u) {
+    for (std::uint32_t i = 0; i < polygon.size(); ++i)
+      if ((side_mask[i] & cut_sides) == 0) return clipper.fan(i);
+  }
+  return clipper.clip();
+}
+
+}  // namespace fracref::pieces_detail

@@ -1,0 +1,163 @@
+#pragma once
+// Watertight high-resolution pieces (paper section 5, "Exterior surface generation";
+// DESIGN.md pipeline step 5): the exterior B is cut along the boundary of the refined fracture
+// surface S, split into patches, and every patch is merged with the faces of S that bound the
+// same piece, giving one closed, edge-manifold, outward mesh per piece. Neighbouring pieces
+// share their fracture vertices exactly (same index in one shared position array).
+//
+// Method (build_pieces):
+//  1. Snap. Every boundary vertex of S (kVertexBoundary) is located on B by a closest-point
+//     query: a B vertex, a point of a B edge or a point inside a B triangle (barycentric weights
+//     below PieceOptions::location_epsilon are zeroed). Its position becomes that point.
+//  2. Trace. Each boundary edge (p, q) of S, in the winding of its one face, is traced across
+//     B's triangles along the intersection of B with the plane through p and q that contains the
+//     mean of B's normals at p and q (the plane is perpendicular to B there, so the curve is the
+//     "straightest" path, a discrete geodesic for short edges). The walk goes from triangle to
+//     triangle through the crossings of that plane with B's edges; B vertices within
+//     plane_epsilon of the plane count as on it, so a trace may run through B vertices and along
+//     B edges (an S boundary edge lying on a B edge) without creating slivers. When the walk
+//     cannot reach q (a non-convex B folding away from the plane) it is retried with the normal
+//     at p alone, then at q alone, before giving up.
+//  3. Insert. The crossings become new vertices shared by B and S: each cut B triangle is
+//     re-triangulated in its own barycentric plane (a constrained triangulation, exact
+//     orientation tests, Delaunay flips for shape), and each face of S on a traced edge becomes
+//     a polygon re-triangulated by ear clipping (never a triangle lying along B: for one cut edge
+//     this is the fan from the opposite corner).
+//  4. Patches. The cut B is flood-filled across its edges that are not on a trace. A patch face
+//     using the directed cut edge (x, y) in the winding direction of the S face on that edge
+//     belongs to that face's front piece, in the opposite direction to its back piece; every cut
+//     edge of a patch must agree. A B component no trace touches goes to the piece on the side of
+//     the S face nearest to it (to piece 0 when S has no faces).
+//  5. Merge. Each piece is its patches (inside = 0) plus its S faces wound outward (inside = 1).
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <array>
+#include <glm/glm.hpp>
+
+#include "io/mesh_soup.hpp"
+#include "surface/fracture_surface.hpp"
+
+namespace fracref {
+
+/// vertex_origin value of a vertex inserted where a trace crosses a B edge.
+inline constexpr std::int64_t kCrossing = std::numeric_limits<std::int64_t>::min();
+
+/// A vertex inserted by the cut, where the trace of an S boundary edge crosses an edge of B.
+struct CrossingPoint {
+  std::uint32_t vertex = 0;          ///< index in PieceSet::positions
+  std::uint32_t s_from = 0, s_to = 0;  ///< the S boundary edge, in the direction it was traced
+  double along = 0.0;                ///< fraction of the trace's length from s_from, in (0, 1)
+  std::uint32_t b_from = 0, b_to = 0;  ///< the crossed B edge (b_from < b_to)
+  double t = 0.0;                    ///< the point is b_from + t (b_to - b_from), t in (0, 1)
+};
+
+/// One closed mesh per piece, all indexing one shared vertex array.
+struct PieceSet {
+  /// Every vertex of every piece. Index layout: [0, S vertices) are the vertices of S in their
+  /// order (boundary ones moved onto B, the others converted to double as they are); then the
+  /// vertices of B in their order, less those an S vertex was snapped onto (that S vertex takes
+  /// their place); then the crossing points, in the order of `crossings`.
+  std::vector<glm::dvec3> positions;
+  struct Piece {
+    std::vector<std::array<std::uint32_t, 3>> triangles;  ///< indices into positions, outward
+    std::vector<std::uint8_t> inside;  ///< per triangle: 1 = fracture face (from S), 0 = exterior (from B)
+  };
+  std::vector<Piece> pieces;  ///< index = piece id of S
+  /// Per position: >= 0 the S vertex it is; -1 - b for B vertex b; kCrossing for a crossing
+  /// point (described by `crossings`).
+  std::vector<std::int64_t> vertex_origin;
+  std::vector<CrossingPoint> crossings;  ///< ascending vertex
+  std::uint32_t s_vertex_count = 0;      ///< vertices of S (the first positions)
+  std::uint32_t snapped_to_b_vertex = 0; ///< S boundary vertices that landed on a B vertex
+};
+
+struct PieceOptions {
+  /// Largest distance of an S boundary vertex from B, relative to B's bounding-box diagonal.
+  /// The refiner projects in float (about 1e-7 off); farther means S does not end on B.
+  double snap_tolerance = 1e-4;
+  /// Barycentric weights below this are zeroed when locating an S vertex on B, so a vertex
+  /// that was meant to lie on a B edge or vertex (up to float noise) lands exactly on it.
+  double location_epsilon = 1e-6;
+  /// B vertices closer than this (relative to B's diagonal) to a trace's plane are on it.
+  double plane_epsilon = 1e-9;
+  bool delaunay = true;  ///< improve the re-triangulated B triangles by Delaunay flips
+};
+
+/// Cuts B along the boundary of S and builds one closed mesh per piece of S (see the file
+/// comment for the method).
+/// \pre `s` is valid (validate(s) == ""); `exterior` is closed and consistently oriented outward.
+/// \throw InputError when `exterior` has no triangles, an index out of range, a non-finite
+///        coordinate, or an edge that does not have exactly two faces in opposite directions.
+/// \throw RunError naming the S vertex, S edge, S face or B triangle when S does not fit B:
+///        a boundary vertex of S farther than snap_tolerance from B, two S vertices on the same
+///        point of B, a trace that cannot reach its end, traces that cross or touch, a patch that
+///        borders two different pieces.
+PieceSet build_pieces(const FractureSurface& s, const MeshSoup& exterior, const PieceOptions& options = {});
+
+/// What check_pieces finds about one piece.
+struct PieceCheck {
+  std::size_t triangles = 0;
+  std::size_t inside_triangles = 0;   ///< from S
+  double volume = 0.0;                ///< signed, by the divergence theorem
+  std::size_t open_edges = 0;         ///< undirected edges with one face
+  std::size_t non_manifold_edges = 0; ///< edges with three or more faces
+  std::size_t misoriented_edges = 0;  ///< edges with two faces using it in the same direction
+  std::size_t self_intersections = 0;  ///< pairs of faces (exact; capped at max_self_intersections)
+  bool closed() const { return open_edges == 0; }
+  bool edge_manifold() const { return non_manifold_edges == 0 && misoriented_edges == 0; }
+  bool outward() const { return volume > 0.0; }
+};
+
+struct PieceCheckOptions {
+  std::size_t sample_points = 2000;  ///< random points inside B tested against every piece
+  std::uint64_t seed = 1;
+  double volume_tolerance = 1e-3;    ///< allowed relative error of the sum of piece volumes
+  std::size_t max_self_intersections = 16;  ///< per piece, stop counting after this many
+  int threads = 2;
+};
+
+/// The partition check of a piece set against its exterior.
+struct PieceReport {
+  std::vector<PieceCheck> pieces;
+  double exterior_volume = 0.0;
+  double volume_sum = 0.0;
+  double volume_relative_error = 0.0;  ///< |volume_sum - exterior_volume| / |exterior_volume|
+  std::size_t points_tested = 0;
+  std::size_t points_in_no_piece = 0;
+  std::size_t points_in_several_pieces = 0;
+  /// One line per failure, naming the piece and why, e.g. "piece 3: not closed (2 open edges)";
+  /// empty when every check passed.
+  std::vector<std::string> failures;
+  bool ok() const { return failures.empty(); }
+};
+
+/// Checks every piece (closed, edge-manifold, outward, no self-intersections, not empty) and
+/// the partition (volumes sum to B's within volume_tolerance; each of sample_points random
+/// points inside B, drawn from a seeded generator, lies in exactly one piece).
+/// \throw InputError when `exterior` has no triangles or bad indices.
+/// \throw RunError when `pieces` has an index out of range.
+PieceReport check_pieces(const PieceSet& pieces, const MeshSoup& exterior, const PieceCheckOptions& options = {});
+
+/// \throw RunError listing report.failures when the report is not ok.
+void require_valid_pieces(const PieceReport& report);
+
+struct PieceWriteOptions {
+  bool ply = true;          ///< write piece_NNN.ply (face property inside, vertex mx my mz)
+  bool obj = true;          ///< write piece_NNN.obj with usemtl inside / outside and pieces.mtl
+  bool ply_binary = true;
+};
+
+/// Writes `folder`/pieces/piece_<NNN>.ply and .obj (NNN = piece id, at least 3 digits) and
+/// `folder`/pieces/pieces.mtl, each through write_file_atomic. A piece's files hold only the
+/// vertices it uses, in ascending shared index. PLY: vertex properties mx, my, mz (double, the
+/// material-space position, here the position itself), face property inside (uchar).
+/// OBJ: `mtllib pieces.mtl`, the outside faces under `usemtl outside`, then the inside faces
+/// under `usemtl inside`; no texture coordinates or normals.
+/// \throw RunError when a file cannot be written.
+void write_pieces(const PieceSet& pieces, const std::filesystem::path& folder, const PieceWriteOptions& options = {});
+
+}  // namespace fracref

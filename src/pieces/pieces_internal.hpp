@@ -1,0 +1,130 @@
+#pragma once
+// Internal to the pieces room: B's flat adjacency, locations on B, traces, and the two
+// re-triangulations. Not part of the public API.
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "geom/bvh.hpp"
+#include "io/mesh_soup.hpp"
+
+namespace fracref::pieces_detail {
+
+inline constexpr std::uint32_t kNone = 0xffffffffu;
+
+/// B with the adjacency the walk needs. Side k of triangle f runs from corner k to corner k+1.
+struct ExteriorMesh {
+  std::vector<glm::dvec3> positions;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::vector<glm::uvec2> edges;                      ///< (a < b), sorted
+  std::vector<std::array<std::uint32_t, 2>> edge_faces;  ///< the two faces of each edge
+  std::vector<std::array<std::uint32_t, 3>> face_edges;  ///< edge of side k
+  std::vector<std::uint32_t> vf_offsets, vf_faces;    ///< vertex -> faces (ascending)
+  std::vector<glm::dvec3> face_normals;               ///< unit (zero for a degenerate face)
+  Bvh bvh;
+  double diagonal = 0.0;
+};
+
+/// \throw InputError (see build_pieces).
+ExteriorMesh make_exterior_mesh(const MeshSoup& soup);
+
+/// The edge id of {a, b}, or kNone.
+std::uint32_t find_exterior_edge(const ExteriorMesh& m, std::uint32_t a, std::uint32_t b);
+
+/// A point of B: on a vertex, inside an edge (t along edges[id] from .x to .y, in (0, 1)), or
+/// inside a triangle (barycentric weights of its corners, all > 0).
+struct Location {
+  enum Kind : std::uint8_t { kVertex, kEdge, kFace };
+  Kind kind = kVertex;
+  std::uint32_t id = 0;
+  double t = 0.0;
+  glm::dvec3 bary{0.0};
+  glm::dvec3 point{0.0};
+};
+
+bool same_location(const Location& a, const Location& b);
+/// Bit k set when the location lies on side k of triangle f (0 when inside or not on f).
+unsigned location_sides(const ExteriorMesh& m, const Location& loc, std::uint32_t f);
+/// Whether the location lies in the closed triangle f.
+bool location_in_face(const ExteriorMesh& m, const Location& loc, std::uint32_t f);
+/// The triangles whose closure holds the location, ascending.
+std::vector<std::uint32_t> location_faces(const ExteriorMesh& m, const Location& loc);
+/// Unit normal of B at the location (angle-weighted at a vertex, mean of two at an edge).
+glm::dvec3 location_normal(const ExteriorMesh& m, const Location& loc);
+/// The location of the closest point of B to p, weights below `epsilon` zeroed.
+Location locate_on_exterior(const ExteriorMesh& m, const glm::dvec3& p, double epsilon, double* distance);
+/// Location on edge e at parameter t (t in (0, 1)), point computed from t.
+Location edge_location(const ExteriorMesh& m, std::uint32_t e, double t);
+Location vertex_location(const ExteriorMesh& m, std::uint32_t v);
+
+/// One segment of a trace: from the previous location to `to`, inside (the closure of) `face`.
+struct TraceStep {
+  Location to;
+  std::uint32_t face = 0;
+};
+
+/// The trace of one S boundary edge: the start location and the steps to the end.
+struct Trace {
+  Location from;
+  std::vector<TraceStep> steps;
+};
+
+/// Walks from p to q across B (see pieces.hpp, step 2).
+/// \throw RunError with the reason (the caller names the S edge).
+Trace trace_on_exterior(const ExteriorMesh& m, const Location& p, const Location& q, double plane_tolerance);
+
+/// Input of the re-triangulation of one B triangle, in its barycentric plane: corner 0 at
+/// (0, 0), corner 1 at (1, 0), corner 2 at (0, 1). Points on side 1 satisfy x + y == 1
+/// exactly, so collinear points are exactly collinear.
+struct CutTriangle {
+  std::vector<glm::dvec2> uv;            ///< points 0, 1, 2 are the corners
+  std::vector<glm::dvec3> xyz;           ///< 3D positions (shape only)
+  std::array<std::vector<std::uint32_t>, 3> side_points;  ///< points strictly inside side k, in order from corner k
+  std::vector<std::uint32_t> interior;   ///< points strictly inside
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> constraints;  ///< segments that must be edges
+  bool delaunay = true;
+};
+
+/// Triangulates the cut triangle: counterclockwise triangles over the local point ids, every
+/// constraint an edge. \throw RunError (the caller names the B triangle) when a constraint
+/// passes through another point, two constraints cross, or two points coincide.
+std::vector<std::array<std::uint32_t, 3>> triangulate_cut_triangle(const CutTriangle& input);
+
+/// Triangulates a fracture face whose sides carry trace points. `polygon` lists 3D points in
+/// the face's winding; `side_mask` per point: bit k when it lies on side k (a corner on two).
+/// No triangle has all three points on one side. Returns indices into polygon in its winding.
+/// \throw RunError with the reason (the caller names the S face).
+std::vector<std::array<std::uint32_t, 3>> triangulate_fracture_polygon(const std::vector<glm::dvec3>& polygon,
+                                                                       const std::vector<unsigned>& side_mask,
+                                                                       const glm::dvec3& normal);
+
+/// The cut of B: the points the traces put on B and the segments between them. Point ids are
+/// the global vertex ids of PieceSet::positions.
+struct ExteriorCut {
+  std::vector<Location> location;                 ///< per global vertex (meaningful where on_b)
+  std::vector<std::uint8_t> on_b;                 ///< per global vertex: it lies on B
+  std::vector<std::uint32_t> b_vertex_gid;        ///< per B vertex, its global id (kNone if unused)
+  std::map<std::uint32_t, std::vector<std::pair<double, std::uint32_t>>> edge_points;  ///< B edge -> (t, id)
+  std::map<std::uint32_t, std::vector<std::uint32_t>> face_points;  ///< B face -> ids strictly inside
+  struct Segment {
+    std::uint32_t from = 0, to = 0;  ///< global ids
+    std::uint32_t face = 0;          ///< the B triangle the walk crossed
+  };
+  std::vector<Segment> segments;
+};
+
+/// Re-triangulates every B triangle the cut touches (the others keep their corners) and
+/// returns all triangles of the cut B on global ids, in B's triangle order.
+/// \throw RunError naming the B triangle when its cut cannot be triangulated.
+std::vector<std::array<std::uint32_t, 3>> cut_exterior(const ExteriorMesh& m, ExteriorCut& cut,
+                                                       const std::vector<glm::dvec3>& positions, bool delaunay);
+
+/// "(x, y, z)" with 9 significant digits, for messages.
+std::string format_point(const glm::dvec3& p);
+
+}  // namespace fracref::pieces_detail

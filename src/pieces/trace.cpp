@@ -1,0 +1,142 @@
+// The walk of one S boundary edge across B along a plane (pieces.hpp, step 2).
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "pieces/pieces_internal.hpp"
+#include "util/error.hpp"
+
+namespace fracref::pieces_detail {
+namespace {
+
+struct Candidate {
+  Location loc;
+  std::uint32_t face = 0;
+};
+
+// Follows the curve where the plane meets B. Signs of B vertices against the plane are computed
+// once and cached, so every triangle sees the same signs and the curve is one consistent polyline;
+// near-zero distances are zero, so a curve grazing a vertex runs through it.
+class Walker {
+ public:
+  Walker(const ExteriorMesh& m, const Location& p, const Location& q, const glm::dvec3& plane_normal, double tol)
+      : m_(m), p_(p), q_(q), normal_(plane_normal), tol_(tol) {
+    length_ = glm::length(q.point - p.point);
+    direction_ = (q.point - p.point) / length_;
+    if (p.kind == Location::kVertex) side_[p.id] = 0.0;
+    if (q.kind == Location::kVertex) side_[q.id] = 0.0;
+  }
+
+  bool run(Trace& out, std::string& why) {
+    out.from = p_;
+    out.steps.clear();
+    std::set<std::pair<int, std::uint32_t>> visited;
+    mark(visited, p_);
+    Location cur = p_;
+    const std::size_t limit = m_.edges.size() + m_.positions.size() + 8;
+    for (std::size_t step = 0; step < limit; ++step) {
+      const std::vector<std::uint32_t> faces = location_faces(m_, cur);
+      for (std::uint32_t f : faces)
+        if (location_in_face(m_, q_, f)) {
+          out.steps.push_back({q_, f});
+          return true;
+        }
+      Candidate best;
+      double best_score = -2.0;
+      const glm::dvec3 toward = q_.point - cur.point;
+      for (std::uint32_t f : faces) {
+        candidates_.clear();
+        exits(f, cur);
+        for (const Candidate& c : candidates_) {
+          if (visited.count(key(c.loc)) || !in_corridor(c.loc.point)) continue;
+          const glm::dvec3 d = c.loc.point - cur.point;
+          const double len = glm::length(d) * glm::length(toward);
+          const double score = len > 0.0 ? glm::dot(d, toward) / len : -1.0;
+          if (score > best_score) best_score = score, best = c;
+        }
+      }
+      if (best_score < -1.5) {
+        why = "the walk found no way forward at " + format_point(cur.point) + " after " + std::to_string(step) + " steps";
+        return false;
+      }
+      out.steps.push_back({best.loc, best.face});
+      mark(visited, best.loc);
+      cur = best.loc;
+    }
+    why = "the walk did not end";
+    return false;
+  }
+
+ private:
+  static std::pair<int, std::uint32_t> key(const Location& loc) { return {int(loc.kind), loc.id}; }
+  static void mark(std::set<std::pair<int, std::uint32_t>>& visited, const Location& loc) {
+    if (loc.kind != Location::kFace) visited.insert(key(loc));
+  }
+
+  double side(std::uint32_t v) {
+    auto it = side_.find(v);
+    if (it != side_.end()) return it->second;
+    double s = glm::dot(normal_, m_.positions[v] - p_.point);
+    if (std::abs(s) <= tol_) s = 0.0;
+    side_.emplace(v, s);
+    return s;
+  }
+
+  // Where the curve leaves triangle f from `cur`: its vertices on the plane and the crossings
+  // of its sides whose ends lie strictly on opposite sides.
+  void exits(std::uint32_t f, const Location& cur) {
+    const auto& t = m_.triangles[f];
+    const double s[3] = {side(t[0]), side(t[1]), side(t[2])};
+    for (int k = 0; k < 3; ++k)
+      if (s[k] == 0.0 && !(cur.kind == Location::kVertex && cur.id == t[k])) candidates_.push_back({vertex_location(m_, t[k]), f});
+    for (int k = 0; k < 3; ++k) {
+      const double a = s[k], b = s[(k + 1) % 3];
+      if (!((a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0))) continue;
+      const std::uint32_t e = m_.face_edges[f][k];
+      if (cur.kind == Location::kEdge && cur.id == e) continue;
+      const double sa = side(m_.edges[e].x), sb = side(m_.edges[e].y);
+      candidates_.push_back({edge_location(m_, e, sa / (sa - sb)), f});
+    }
+  }
+
+  // A trace is short next to B's curvature: it never goes far back behind p or past q.
+  bool in_corridor(const glm::dvec3& x) const {
+    const double along = glm::dot(x - p_.point, direction_);
+    return along >= -length_ && along <= 2.0 * length_;
+  }
+
+  const ExteriorMesh& m_;
+  Location p_, q_;
+  glm::dvec3 normal_;
+  double tol_;
+  double length_ = 0.0;
+  glm::dvec3 direction_{0.0};
+  std::map<std::uint32_t, double> side_;
+  std::vector<Candidate> candidates_;
+};
+
+}  // namespace
+
+Trace trace_on_exterior(const ExteriorMesh& m, const Location& p, const Location& q, double plane_tolerance) {
+  const glm::dvec3 d = q.point - p.point;
+  const double length = glm::length(d);
+  if (same_location(p, q) || length == 0.0) throw RunError("its ends lie on the same point of the exterior");
+  const glm::dvec3 np = location_normal(m, p), nq = location_normal(m, q);
+  const glm::dvec3 normals[3] = {np + nq, np, nq};
+  std::string first_reason;
+  for (const glm::dvec3& n : normals) {
+    const glm::dvec3 plane = glm::cross(d, n);
+    const double len = glm::length(plane);
+    if (!(len > 1e-9 * length * glm::length(n))) continue;  // edge along the normal: no plane
+    Trace trace;
+    std::string why;
+    Walker walker(m, p, q, plane / len, plane_tolerance);
+    if (walker.run(trace, why)) return trace;
+    if (first_reason.empty()) first_reason = why;
+  }
+  if (first_reason.empty()) first_reason = "it is parallel to the exterior's normal";
+  throw RunError(first_reason);
+}
+
+}  // namespace fracref::pieces_detail

@@ -1,0 +1,179 @@
+// build_pieces on hand-made cases: boxes cut by planar and oblique sheets (boundary vertices
+// exactly on B's faces, edges and vertices, boundary edges along B edges), a T-junction and a
+// cross of pieces, a thin box cut across, and an icosphere cut by a wavy sheet whose boundary
+// was projected onto it in float, as the refiner does.
+#include <gtest/gtest.h>
+
+#include "pieces_test_support.hpp"
+#include "surface/surface_examples.hpp"
+#include "util/error.hpp"
+
+namespace fracref {
+namespace {
+
+using namespace pieces_test;
+
+std::size_t count_inside(const PieceSet::Piece& p, std::uint8_t flag) {
+  return std::size_t(std::count(p.inside.begin(), p.inside.end(), flag));
+}
+
+std::size_t exterior_triangles(const PieceSet& set) {
+  std::size_t n = 0;
+  for (const auto& p : set.pieces) n += count_inside(p, 0);
+  return n;
+}
+
+double piece_volume(const PieceSet& set, std::size_t p) { return volume(set.positions, set.pieces[p].triangles); }
+
+// Sheet z = 0 over [0, 3]^2 (4 x 4 vertices) in the 12-triangle box [0, 3]^2 x [-1, 1]: the sheet's
+// corners lie inside the box's vertical edges, its sides cross the four side diagonals once.
+TEST(PiecesBox, PlanarSheetInTwelveTriangleBox) {
+  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
+  const FractureSurface s = example_sheet(4);
+  const PieceSet set = build_pieces(s, b);
+  ASSERT_EQ(set.pieces.size(), 2u);
+  EXPECT_EQ(set.crossings.size(), 4u);
+  EXPECT_EQ(set.snapped_to_b_vertex, 0u);
+  // B' = 8 box corners + 12 boundary vertices of S + 4 crossings, closed genus 0: F = 2V - 4.
+  EXPECT_EQ(exterior_triangles(set), 2u * (8 + 12 + 4) - 4);
+  // Each crossing splits one fracture face into two.
+  EXPECT_EQ(count_inside(set.pieces[0], 1), s.faces.size() + 4);
+  EXPECT_EQ(count_inside(set.pieces[1], 1), s.faces.size() + 4);
+  EXPECT_NEAR(piece_volume(set, 0), 9.0, 1e-12);
+  EXPECT_NEAR(piece_volume(set, 1), 9.0, 1e-12);
+  expect_valid_pieces(set, b);
+}
+
+// The same sheet in a 4 x 4-per-face box: the box has a grid line at z = 0, so the sheet's
+// boundary runs along B edges and through B vertices; its corners land on B vertices.
+TEST(PiecesBox, PlanarSheetAlongBoxEdges) {
+  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 4);
+  const FractureSurface s = example_sheet(4);
+  const PieceSet set = build_pieces(s, b);
+  EXPECT_EQ(set.crossings.size(), 0u);
+  EXPECT_EQ(set.snapped_to_b_vertex, 4u);
+  // 98 box vertices, 4 of them taken over by S corners, + 8 S vertices inside box edges.
+  EXPECT_EQ(set.positions.size(), s.positions.size() + 98 - 4);
+  EXPECT_EQ(exterior_triangles(set), 2u * (98 + 8) - 4);
+  EXPECT_NEAR(piece_volume(set, 0), 9.0, 1e-12);
+  expect_valid_pieces(set, b);
+}
+
+// An oblique sheet z = 0.3 x + 0.2 y - 0.75 (float positions), boundary exactly on the box's
+// side faces; each side holds half the volume.
+TEST(PiecesBox, ObliqueSheet) {
+  for (int grid : {1, 4}) {
+    const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, grid);
+    const FractureSurface s = grid_sheet(5, [](int i, int j) {
+      const double x = 0.75 * i, y = 0.75 * j;
+      return glm::dvec3(x, y, 0.3 * x + 0.2 * y - 0.75);
+    });
+    const PieceSet set = build_pieces(s, b);
+    EXPECT_NEAR(piece_volume(set, 0), 9.0, 1e-5) << "grid " << grid;
+    EXPECT_NEAR(piece_volume(set, 1), 9.0, 1e-5) << "grid " << grid;
+    expect_valid_pieces(set, b);
+  }
+}
+
+// Three pieces meeting along a line that reaches the box at two points on opposite faces.
+TEST(PiecesJunction, TJunctionInBox) {
+  for (int grid : {1, 3}) {
+    const MeshSoup b = box({-1, 0, -1}, {1, 2, 1}, grid);
+    const FractureSurface s = example_t_junction(2);
+    const PieceSet set = build_pieces(s, b);
+    ASSERT_EQ(set.pieces.size(), 3u);
+    EXPECT_NEAR(piece_volume(set, 0), 4.0, 1e-12) << "grid " << grid;
+    EXPECT_NEAR(piece_volume(set, 1), 2.0, 1e-12) << "grid " << grid;
+    EXPECT_NEAR(piece_volume(set, 2), 2.0, 1e-12) << "grid " << grid;
+    expect_valid_pieces(set, b);
+  }
+}
+
+TEST(PiecesJunction, CrossOfFourPieces) {
+  const MeshSoup b = box({-1, 0, -1}, {1, 3, 1}, 2);
+  const PieceSet set = build_pieces(example_cross(3), b);
+  ASSERT_EQ(set.pieces.size(), 4u);
+  for (std::size_t p = 0; p < 4; ++p) EXPECT_NEAR(piece_volume(set, p), 3.0, 1e-12) << "piece " << p;
+  expect_valid_pieces(set, b);
+}
+
+// A long thin box cut across, off the box's grid and on a grid plane (boundary along B edges).
+TEST(PiecesThin, LongThinBoxCutAcross) {
+  for (double x : {5.03, 5.0}) {
+    const MeshSoup b = box({0, 0, 0}, {10, 0.1, 0.1}, 8);
+    const FractureSurface s = grid_sheet(3, [x](int i, int j) { return glm::dvec3(x, 0.05 * i, 0.05 * j); });
+    const PieceSet set = build_pieces(s, b);
+    const double xs = double(float(x));
+    EXPECT_NEAR(piece_volume(set, 0), xs * 0.01, 1e-9) << "cut at " << x;
+    EXPECT_NEAR(piece_volume(set, 1), (10 - xs) * 0.01, 1e-9) << "cut at " << x;
+    expect_valid_pieces(set, b);
+  }
+}
+
+// A polar-grid sheet with a wavy height; the outer ring is projected onto B and rounded to float.
+FractureSurface wavy_disk(const MeshSoup& b, int rings, int segments) {
+  const Bvh bvh = build_bvh(b.positions, b.triangles);
+  auto height = [](double x, double y) { return 0.06 * std::sin(3.0 * x + 0.5) * std::cos(2.0 * y) + 0.1; };
+  std::vector<glm::vec4> positions{{0.0f, 0.0f, float(height(0, 0)), 1.0f}};
+  for (int r = 1; r <= rings; ++r)
+    for (int k = 0; k < segments; ++k) {
+      const double angle = 2.0 * 3.14159265358979 * k / segments, radius = double(r) / rings;
+      glm::dvec3 p(radius * std::cos(angle), radius * std::sin(angle), 0.0);
+      p.z = height(p.x, p.y);
+      if (r == rings) p = closest_point(bvh, p).point;
+      positions.emplace_back(glm::vec3(p), 1.0f);
+    }
+  auto id = [segments](int r, int k) { return std::uint32_t(1 + (r - 1) * segments + (k % segments)); };
+  std::vector<glm::uvec4> faces;
+  for (int k = 0; k < segments; ++k) faces.emplace_back(0, id(1, k), id(1, k + 1), 0);
+  for (int r = 1; r < rings; ++r)
+    for (int k = 0; k < segments; ++k) {
+      faces.emplace_back(id(r, k), id(r + 1, k), id(r + 1, k + 1), 0);
+      faces.emplace_back(id(r, k), id(r + 1, k + 1), id(r, k + 1), 0);
+    }
+  std::vector<glm::ivec2> pieces(faces.size(), glm::ivec2(1, 0));
+  return make_fracture_surface(std::move(positions), std::move(faces), std::move(pieces), 2);
+}
+
+TEST(PiecesCurved, IcosphereCutByWavySheet) {
+  const MeshSoup b = icosphere(2);
+  ASSERT_EQ(b.triangles.size(), 320u);
+  for (int segments : {24, 7, 60}) {
+    const FractureSurface s = wavy_disk(b, 4, segments);
+    const PieceSet set = build_pieces(s, b);
+    EXPECT_GT(set.crossings.size(), 0u);
+    const PieceReport report = expect_valid_pieces(set, b);
+    EXPECT_LT(report.volume_relative_error, 1e-9) << segments << " segments";
+  }
+}
+
+TEST(PiecesDeterminism, SameInputSameOutput) {
+  const MeshSoup b = icosphere(2);
+  const FractureSurface s = wavy_disk(b, 3, 20);
+  const PieceSet first = build_pieces(s, b), second = build_pieces(s, b);
+  EXPECT_EQ(first.positions, second.positions);
+  ASSERT_EQ(first.pieces.size(), second.pieces.size());
+  for (std::size_t p = 0; p < first.pieces.size(); ++p) EXPECT_EQ(first.pieces[p].triangles, second.pieces[p].triangles);
+}
+
+TEST(PiecesErrors, BoundaryVertexFarFromExterior) {
+  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
+  FractureSurface s = example_sheet(4);
+  s.positions[1].y = -0.5f;  // vertex (1, 0, 0), a boundary vertex, pulled out of the box
+  try {
+    build_pieces(s, b);
+    FAIL() << "expected a RunError";
+  } catch (const RunError& e) {
+    EXPECT_NE(std::string(e.what()).find("boundary vertex 1 "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("from the exterior"), std::string::npos) << e.what();
+  }
+}
+
+TEST(PiecesErrors, OpenExteriorIsInputError) {
+  MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
+  b.triangles.pop_back();
+  EXPECT_THROW(build_pieces(example_sheet(4), b), InputError);
+}
+
+}  // namespace
+}  // namespace fracref
