@@ -1,0 +1,117 @@
+// The demo scenes' entry point and what the scenes share: the scene file, the piece layout and
+// the animation files.
+#include "scenegen/scenegen.hpp"
+
+#include <cstdio>
+#include <limits>
+#include <system_error>
+
+#include "scenegen/scenes.hpp"
+#include "util/atomic_output.hpp"
+#include "util/error.hpp"
+
+namespace fracref {
+namespace scenegen_detail {
+
+Json scene_json(const SceneSetup& setup, const SceneText& text, const Json& animation) {
+  Json fracture = {{"kind", "tets"}, {"mesh", text.mesh}};
+  if (!text.cracks.empty()) fracture["cracks"] = text.cracks;
+  fracture["virtual_fracture"] = true;
+  Json j;
+  j["comment"] = text.comment;
+  j["name"] = text.title;
+  j["exterior"] = text.exterior;
+  j["fracture"] = fracture;
+  j["animation"] = animation;
+  j["field"] = {{"type", text.field},
+                {"resolution", {text.resolution.x, text.resolution.y, text.resolution.z}},
+                {"seed", setup.seed}};
+  j["refine"] = {{"max_triangles", text.max_triangles}, {"seed", setup.seed}};
+  return j;
+}
+
+PieceLayout piece_layout(const TriMesh& exterior, const LatticeSpec& lattice, const LayoutGoal& goal, Rng& rng,
+                         const std::function<double(const glm::dvec3&)>& spacing) {
+  PieceLayout out;
+  out.set = lattice_tets(exterior, lattice);
+  const TetFaces faces = tet_faces(out.set);
+  const std::vector<glm::dvec3> sites = spread_sites(out.set, goal.k_hi, rng, spacing);
+  out.labels = best_layout(out.set, faces, sites, goal.k_lo, goal.k_hi, goal.target, goal.min_tets);
+  for (const int l : out.labels) out.pieces = std::max(out.pieces, l + 1);
+  out.volumes.assign(out.pieces, 0.0);
+  out.centroids.assign(out.pieces, glm::dvec3(0.0));
+  for (std::uint32_t t = 0; t < out.set.tets.size(); ++t) {
+    const double v = tet_volume(out.set, t);
+    out.volumes[out.labels[t]] += v;
+    out.centroids[out.labels[t]] += v * tet_centroid(out.set, t);
+  }
+  for (int p = 0; p < out.pieces; ++p) out.centroids[p] /= out.volumes[p];
+  return out;
+}
+
+int piece_near(const PieceLayout& layout, const glm::dvec3& p) {
+  double best = std::numeric_limits<double>::infinity();
+  int piece = 0;
+  for (std::uint32_t t = 0; t < layout.set.tets.size(); ++t) {
+    const double d = glm::distance(tet_centroid(layout.set, t), p);
+    if (d < best) best = d, piece = layout.labels[t];
+  }
+  return piece;
+}
+
+Json write_frames_animation(const SceneSetup& setup, const TetSet& set, const Duplication& dup, const Motion& motion) {
+  const std::string dir = setup.name + "_frames";
+  std::filesystem::create_directories(setup.folder / dir);
+  std::vector<glm::dvec3> points;
+  for (int f = 0; f < kFrames; ++f) {
+    points.clear();
+    for (std::size_t v = 0; v < set.positions.size() && dup.split_frame[v] <= f; ++v)
+      points.push_back(motion(set.positions[v], dup.group[v], f));
+    char file[32];
+    std::snprintf(file, sizeof file, "frame_%04d.txt", f);
+    write_frame(setup.folder / dir / file, points);
+  }
+  write_parent_map(setup.folder / dir / "parents.txt", dup.parent);
+  return {{"kind", "frames"},         {"frames", dir + "/frame_{:04}.txt"}, {"first", 0},
+          {"count", kFrames},         {"parent_map", dir + "/parents.txt"}, {"fps", kFps}};
+}
+
+Json write_rigid_animation(const SceneSetup& setup, const std::vector<std::vector<RigidTransform>>& frames) {
+  const std::string file = setup.name + "_transforms.txt";
+  write_rigid(setup.folder / file, frames);
+  return {{"kind", "rigid"}, {"transforms", file}, {"fps", kFps}};
+}
+
+}  // namespace scenegen_detail
+
+std::vector<std::string> demo_scene_names() { return {"bunny", "branch", "wall", "clay", "jello"}; }
+
+std::vector<DemoTarget> demo_scene_targets() {
+  return {{"bunny", 256, 174000}, {"branch", 60, 123000}, {"wall", 204, 208000}, {"clay", 510, 40000},
+          {"jello", 488, 32000}};
+}
+
+std::filesystem::path generate_demo_scene(const std::string& name, const std::filesystem::path& folder,
+                                          const DemoOptions& options) {
+  using namespace scenegen_detail;
+  std::string known;
+  for (const std::string& n : demo_scene_names()) known += (known.empty() ? "" : ", ") + n;
+  bool found = false;
+  for (const std::string& n : demo_scene_names()) found |= n == name;
+  if (!found) throw InputError("unknown demo scene '" + name + "' (known: " + known + ")");
+  std::error_code ec;
+  std::filesystem::create_directories(folder, ec);
+  if (ec) throw RunError(folder.string() + ": cannot create the folder: " + ec.message());
+  const SceneSetup setup{name, folder, options.seed};
+  Json scene;
+  if (name == "bunny") scene = make_bunny(setup, options.bunny_obj);
+  else if (name == "branch") scene = make_branch(setup);
+  else if (name == "wall") scene = make_wall(setup);
+  else if (name == "clay") scene = make_clay(setup);
+  else scene = make_jello(setup);
+  const std::filesystem::path path = folder / (name + ".json");
+  write_file_atomic(path, scene.dump(2) + "\n");
+  return path;
+}
+
+}  // namespace fracref

@@ -1,0 +1,176 @@
+#pragma once
+// Building blocks of the demo scenes. Not part of the public API.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace fracref::scenegen_detail {
+
+/// splitmix64: a small seeded generator (no std distributions, so the output is the same on
+/// every standard library).
+class Rng {
+ public:
+  explicit Rng(std::uint64_t seed) : state_(seed) {}
+  std::uint64_t next() {
+    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  }
+  /// Uniform in [0, 1).
+  double uniform() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }
+  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+  /// A unit vector, uniform on the sphere.
+  glm::dvec3 direction();
+
+ private:
+  std::uint64_t state_;
+};
+
+/// A triangle mesh (the exterior B).
+struct TriMesh {
+  std::vector<glm::dvec3> positions;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+// ------------------------------------------------------------------------------------------------
+// Exteriors (closed, outward), exteriors.cpp
+
+/// A capped cylinder about the z axis, z in [-length/2, length/2]: `segments` around, `rings`
+/// bands along z, caps fanned around a centre vertex.
+TriMesh make_cylinder(double radius, double length, int segments, int rings);
+
+/// The surface of the box [lo, hi] with `cells` grid cells per axis on its faces, each cell two
+/// triangles. With `rounding` > 0 every point is pulled onto the rounded box of that edge radius
+/// (the box shrunk by `rounding`, grown back by a ball).
+TriMesh make_box(const glm::dvec3& lo, const glm::dvec3& hi, const glm::ivec3& cells, double rounding = 0.0);
+
+/// Signed volume (positive for a closed outward mesh).
+double mesh_volume(const TriMesh& mesh);
+
+// ------------------------------------------------------------------------------------------------
+// The coarse tet mesh, lattice.cpp
+
+/// Tets on their vertices, each positively oriented (det[b-a, c-a, d-a] > 0).
+struct TetSet {
+  std::vector<glm::dvec3> positions;
+  std::vector<glm::uvec4> tets;
+};
+
+/// Faces of a TetSet: interior faces (two tets) and hull faces (one tet, wound outward).
+struct TetFaces {
+  std::vector<glm::uvec3> interior;       ///< wound outward from interior_tets[i].x
+  std::vector<glm::uvec2> interior_tets;  ///< the two tets (x < y)
+  std::vector<glm::uvec3> hull;           ///< wound outward
+  std::vector<std::uint32_t> hull_tet;
+};
+
+TetFaces tet_faces(const TetSet& set);
+
+/// Where a closed triangle surface is not a 2-manifold: edges used by more than two faces, as
+/// (a, b) with a < b, then vertices whose faces form more than one fan, as (v, v).
+std::vector<std::pair<std::uint32_t, std::uint32_t>> surface_defects(const std::vector<glm::uvec3>& faces);
+
+/// The lattice: `cells` cubes (boxes) over [lo, hi], each split into the 6 tets of the Kuhn
+/// (Freudenthal) triangulation, conforming across cubes.
+struct LatticeSpec {
+  glm::dvec3 lo{0.0}, hi{1.0};
+  glm::ivec3 cells{1, 1, 1};
+};
+
+/// The coarse tet mesh of a closed exterior: lattice tets whose centroid is inside, completed
+/// where the kept set would touch itself along an edge or at a vertex only, reduced to its
+/// largest face-connected part, vertices compacted (ascending lattice order); then every hull
+/// vertex is moved onto its closest point of the exterior as far as the tets around it keep at
+/// least a fifth of their lattice volume.
+/// \throw RunError when no tet is kept.
+TetSet lattice_tets(const TriMesh& exterior, const LatticeSpec& spec);
+
+/// Per vertex, the tets that use it (CSR).
+struct VertexTets {
+  std::vector<std::uint32_t> offsets, tets;
+};
+VertexTets vertex_tets(const TetSet& set);
+
+glm::dvec3 tet_centroid(const TetSet& set, std::uint32_t t);
+double tet_volume(const TetSet& set, std::uint32_t t);
+
+// ------------------------------------------------------------------------------------------------
+// Pieces, labels.cpp
+
+/// `count` well-spread sites among the tet centroids (Mitchell's best candidate of 12), the
+/// distance to the nearest earlier site divided by `spacing(site)` (a local size; 1 = uniform).
+/// Sites come out in the order chosen, so the first k of count are the k-site layout.
+std::vector<glm::dvec3> spread_sites(const TetSet& set, int count, Rng& rng,
+                                     const std::function<double(const glm::dvec3&)>& spacing);
+
+/// Per tet, the nearest site's index.
+std::vector<int> voronoi_labels(const TetSet& set, const std::vector<glm::dvec3>& sites);
+
+/// Makes the labels a clean piece layout: every label's tets face-connected (parts get labels of
+/// their own, parts of fewer than `min_tets` tets join the neighbour they share most faces with)
+/// and every piece a 2-manifold solid (the tets around an edge or vertex where a piece would
+/// touch itself take the label most of them have), renumbered 0, 1, ... by lowest tet.
+/// \throw RunError when the layout does not settle.
+void tidy_labels(const TetSet& set, const TetFaces& faces, std::vector<int>& labels, std::size_t min_tets);
+
+/// Interior faces whose two tets have different labels.
+std::size_t cut_face_count(const TetFaces& faces, const std::vector<int>& labels);
+
+/// Voronoi labels of the first k sites for k in [k_lo, k_hi], tidied; the layout whose cut face
+/// count is closest to `target` (ties to the smaller k).
+std::vector<int> best_layout(const TetSet& set, const TetFaces& faces, const std::vector<glm::dvec3>& sites, int k_lo,
+                             int k_hi, std::size_t target, std::size_t min_tets);
+
+// ------------------------------------------------------------------------------------------------
+// Duplicated vertices (a simulator's last frame), duplicate.cpp
+
+/// The result of splitting vertices between groups of tets.
+struct Duplication {
+  std::vector<std::uint32_t> parent;  ///< per vertex of the new set: its original (itself for originals)
+  std::vector<int> group;             ///< per vertex: the group whose tets use it (originals: the owner)
+  std::vector<int> split_frame;       ///< per vertex: first frame it exists in (0 for originals)
+  std::size_t original_count = 0;     ///< vertices before the copies
+};
+
+/// Gives every group of tets its own copy of each vertex it shares with another group, when
+/// `may_split[v]` (empty = all). The owner of a shared vertex keeps the original: the group
+/// using it with the largest split frame (ties to the lowest group). Copies are appended,
+/// ordered by (split frame of their group, original, group), so that a frame's vertices are a
+/// prefix. Tets of group g are rewritten to use g's copies.
+/// \param group_split_frame per group, the frame its copies appear in.
+Duplication duplicate_vertices(TetSet& set, const std::vector<int>& tet_group, const std::vector<int>& group_split_frame,
+                               const std::vector<std::uint8_t>& may_split);
+
+// ------------------------------------------------------------------------------------------------
+// Files, writers.cpp
+
+/// Shortest decimal text that reads back as the same double (locale-free).
+void append_number(std::string& out, double value);
+
+void write_obj(const std::filesystem::path& path, const TriMesh& mesh, const std::string& comment);
+void write_medit(const std::filesystem::path& path, const TetSet& set, const std::vector<int>& labels);
+void write_faces(const std::filesystem::path& path, const std::vector<glm::uvec3>& faces, const std::string& comment);
+/// One text frame: `x y z` per vertex.
+void write_frame(const std::filesystem::path& path, const std::vector<glm::dvec3>& points);
+/// `v parent` for every vertex whose parent is not itself.
+void write_parent_map(const std::filesystem::path& path, const std::vector<std::uint32_t>& parent);
+/// Per frame, per piece, the rigid transform x' = R x + t (columns of R in rotation[f][p]).
+struct RigidTransform {
+  glm::dmat3 rotation{1.0};
+  glm::dvec3 translation{0.0};
+};
+void write_rigid(const std::filesystem::path& path, const std::vector<std::vector<RigidTransform>>& frames);
+
+/// Rotation by `angle` radians about the unit `axis`.
+glm::dmat3 rotation(const glm::dvec3& axis, double angle);
+double smoothstep01(double x);
+
+}  // namespace fracref::scenegen_detail

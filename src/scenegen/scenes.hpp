@@ -1,0 +1,79 @@
+#pragma once
+// The five demo scenes and what they share. Not part of the public API.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "scenegen/scenegen_internal.hpp"
+
+namespace fracref::scenegen_detail {
+
+using Json = nlohmann::ordered_json;
+
+inline constexpr int kFrames = 48;
+inline constexpr double kFps = 24.0;
+
+/// Where and how one scene is written.
+struct SceneSetup {
+  std::string name;
+  std::filesystem::path folder;
+  std::uint64_t seed = 1;
+};
+
+/// What goes into the scene file besides the animation.
+struct SceneText {
+  std::string title, comment;
+  std::string exterior, mesh, cracks;  ///< file names in the folder ("" cracks = none)
+  std::string field;                   ///< field type
+  glm::ivec3 resolution{2, 2, 2};
+  std::size_t max_triangles = 200000;
+};
+
+/// The scene JSON (keys of scenes/SCHEMA.md; weights, pyramid and most refine keys left to
+/// their defaults).
+Json scene_json(const SceneSetup& setup, const SceneText& text, const Json& animation);
+
+/// A labelled coarse tet mesh in material space.
+struct PieceLayout {
+  TetSet set;
+  std::vector<int> labels;  ///< per tet, 0 .. pieces-1
+  int pieces = 0;
+  std::vector<glm::dvec3> centroids;  ///< per piece, volume-weighted
+  std::vector<double> volumes;        ///< per piece
+};
+
+struct LayoutGoal {
+  std::size_t target = 0;  ///< cut faces wanted
+  int k_lo = 2, k_hi = 8;  ///< Voronoi sites tried
+  std::size_t min_tets = 8;
+};
+
+/// lattice_tets + best_layout with sites spread by `spacing` (local piece size, 1 = uniform).
+PieceLayout piece_layout(const TriMesh& exterior, const LatticeSpec& lattice, const LayoutGoal& goal, Rng& rng,
+                         const std::function<double(const glm::dvec3&)>& spacing);
+
+/// The piece (label) whose tet centroid is nearest to `p`.
+int piece_near(const PieceLayout& layout, const glm::dvec3& p);
+
+/// Motion of a coarse vertex: (material position, group of Duplication::group, frame) -> position.
+using Motion = std::function<glm::dvec3(const glm::dvec3&, int, int)>;
+
+/// Writes kFrames text frames `<name>_frames/frame_NNNN.txt` (frame f holds the vertices whose
+/// split frame is <= f, a prefix) and `<name>_frames/parents.txt`; returns the scene's
+/// `animation` object.
+Json write_frames_animation(const SceneSetup& setup, const TetSet& set, const Duplication& dup, const Motion& motion);
+
+/// Writes `<name>_transforms.txt`; returns the scene's `animation` object.
+Json write_rigid_animation(const SceneSetup& setup, const std::vector<std::vector<RigidTransform>>& frames);
+
+Json make_bunny(const SceneSetup& setup, const std::filesystem::path& bunny_obj);
+Json make_wall(const SceneSetup& setup);
+Json make_branch(const SceneSetup& setup);
+Json make_clay(const SceneSetup& setup);
+Json make_jello(const SceneSetup& setup);
+
+}  // namespace fracref::scenegen_detail

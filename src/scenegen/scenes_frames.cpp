@@ -1,0 +1,203 @@
+// The deforming scenes, animated by per-frame vertex positions with backward remeshing: the
+// tree branch that bends and snaps, the twisted clay and the bouncing Jell-O.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "scenegen/scenes.hpp"
+
+namespace fracref::scenegen_detail {
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180.0;
+
+// Rotation of p about the line through `centre` along x.
+glm::dvec3 rotate_about_x(const glm::dvec3& p, const glm::dvec3& centre, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle), y = p.y - centre.y, z = p.z - centre.z;
+  return {p.x, centre.y + y * c - z * s, centre.z + y * s + z * c};
+}
+
+// Per piece, the frame its copies of shared vertices appear in: `main` never leaves (it keeps
+// the originals); the others, in the order given, leave at frames spread over [first, last].
+std::vector<int> detach_frames(int pieces, int main, const std::vector<int>& order, int first, int last) {
+  std::vector<int> frame(pieces, 1000);
+  const int n = int(order.size());
+  for (int i = 0; i < n; ++i)
+    frame[order[i]] = n == 1 ? (first + last) / 2 : first + int(std::lround(double(last - first) * i / (n - 1)));
+  frame[main] = 1000;
+  return frame;
+}
+
+std::vector<int> others(int pieces, int main) {
+  std::vector<int> out;
+  for (int p = 0; p < pieces; ++p)
+    if (p != main) out.push_back(p);
+  return out;
+}
+
+// Bending of the branch into an arc of curvature kappa in the y-z plane, the plane z = 0 fixed,
+// the ends going down (the top stretched: the tension side).
+glm::dvec3 bend(const glm::dvec3& x, double kappa) {
+  if (kappa < 1e-12) return x;
+  const double r = 1.0 / kappa, rho = r + x.y, phi = x.z / r;
+  return {x.x, -r + rho * std::cos(phi), rho * std::sin(phi)};
+}
+
+}  // namespace
+
+Json make_branch(const SceneSetup& setup) {
+  const TriMesh exterior = make_cylinder(1.0, 8.0, 32, 32);
+  write_obj(setup.folder / "branch.obj", exterior, "tree branch: a capped cylinder, radius 1, length 8 along z");
+  TetSet set = lattice_tets(exterior, {{-1.0, -1.0, -4.0}, {1.0, 1.0, 4.0}, {6, 6, 24}});
+  for (glm::dvec3& p : set.positions)
+    if (std::abs(p.z) < 1e-9) p.z = 0.0;  // the lattice plane of the cut, exactly
+  Rng rng(setup.seed ^ 0xb2a7c4ull);
+  const double front = -0.2 - 0.2 * rng.uniform();            // the crack covers y > front
+  const double open_angle = (10.0 + 4.0 * rng.uniform()) * kDegree;
+
+  // The crack: faces of the plane z = 0 above the front. Vertices all of whose plane faces are
+  // cracked are duplicated (the crack opened there); the front's are not.
+  const TetFaces faces = tet_faces(set);
+  std::vector<glm::uvec3> crack;
+  std::vector<std::uint8_t> in_plane(set.positions.size(), 0), uncracked(set.positions.size(), 0);
+  for (const glm::uvec3& f : faces.interior) {
+    const glm::dvec3 a = set.positions[f.x], b = set.positions[f.y], c = set.positions[f.z];
+    if (a.z != 0.0 || b.z != 0.0 || c.z != 0.0) continue;
+    const bool cracked = (a.y + b.y + c.y) / 3.0 > front;
+    if (cracked) crack.push_back(f);
+    for (int i = 0; i < 3; ++i) {
+      in_plane[f[i]] = 1;
+      if (!cracked) uncracked[f[i]] = 1;
+    }
+  }
+  std::vector<std::uint8_t> split(set.positions.size());
+  for (std::size_t v = 0; v < split.size(); ++v) split[v] = in_plane[v] && !uncracked[v];
+  std::vector<int> side(set.tets.size());
+  for (std::uint32_t t = 0; t < set.tets.size(); ++t) side[t] = tet_centroid(set, t).z > 0.0 ? 1 : 0;
+  constexpr int kSnap = 20;
+  const Duplication dup = duplicate_vertices(set, side, {1000, kSnap}, split);
+  write_medit(setup.folder / "branch_coarse.mesh", set, std::vector<int>(set.tets.size(), 0));
+  write_faces(setup.folder / "branch_cracks.txt", crack,
+              "an incomplete cut across the middle of the branch: faces a b c (0-based vertex numbers)");
+
+  // Bends until the snap, then the halves turn apart about the crack front (the uncut fibres
+  // below it hold them together, as in a green branch).
+  const double kappa = 20.0 * kDegree / 4.0;
+  const Motion motion = [=](const glm::dvec3& x, int group, int f) {
+    const double k = kappa * (smoothstep01(f / double(kSnap)) + 0.3 * smoothstep01((f - kSnap) / 27.0));
+    const glm::dvec3 p = bend(x, k);
+    if (group < 0) return p;
+    const double alpha = open_angle * smoothstep01((f - kSnap) / 24.0);
+    return rotate_about_x(p, {0.0, front, 0.0}, group == 1 ? alpha : -alpha);
+  };
+  const Json animation = write_frames_animation(setup, set, dup, motion);
+
+  SceneText text;
+  text.title = "tree branch";
+  text.comment = "The paper's tree branch (section 6): an incomplete cut in the middle of a cylinder, completed by "
+                 "virtual fracture, refined in a 32x32x64 branch field (paper: 60 -> 123K triangles).";
+  text.exterior = "branch.obj";
+  text.mesh = "branch_coarse.mesh";
+  text.cracks = "branch_cracks.txt";
+  text.field = "branch";
+  text.resolution = {32, 32, 64};
+  text.max_triangles = 123000;
+  return scene_json(setup, text, animation);
+}
+
+Json make_clay(const SceneSetup& setup) {
+  const glm::dvec3 lo(-0.5, -1.0, -1.0), hi(0.5, 1.0, 1.0);
+  const TriMesh exterior = make_box(lo, hi, {20, 40, 40}, 0.25);
+  write_obj(setup.folder / "clay.obj", exterior, "plastic clay: a rounded box 1 x 2 x 2 (edge radius 0.25)");
+  Rng rng(setup.seed ^ 0xc1a7ull);
+  PieceLayout layout = piece_layout(exterior, {lo, hi, {5, 10, 10}}, {510, 6, 14, 8}, rng,
+                                    [](const glm::dvec3&) { return 1.0; });
+  // The bottom (y = -1) is held; the rest tears off late, top pieces first.
+  const int main = piece_near(layout, {0.0, -1.0, 0.0});
+  std::vector<int> order = others(layout.pieces, main);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return layout.centroids[a].y > layout.centroids[b].y; });
+  const std::vector<int> leave = detach_frames(layout.pieces, main, order, 30, 44);
+  const Duplication dup = duplicate_vertices(layout.set, layout.labels, leave, {});
+  write_medit(setup.folder / "clay_coarse.mesh", layout.set, layout.labels);
+
+  // Twist about the long axis y with a growing angle (plastic: it never springs back), stretching
+  // and necking; a piece that tears off keeps its shape of that moment and flies outward.
+  const double turns = (0.9 + 0.2 * rng.uniform()) * std::numbers::pi;
+  const auto twist = [turns](const glm::dvec3& x, int f) {
+    const double s = smoothstep01(f / 40.0), stretch = 1.0 + 0.25 * s, neck = 1.0 / std::sqrt(stretch);
+    const double angle = turns * s * (x.y + 1.0) / 2.0, c = std::cos(angle), n = std::sin(angle);
+    return glm::dvec3(neck * (c * x.x + n * x.z), -1.0 + (x.y + 1.0) * stretch, neck * (-n * x.x + c * x.z));
+  };
+  const Motion motion = [=](const glm::dvec3& x, int group, int f) {
+    if (group < 0 || f <= leave[group]) return twist(x, f);
+    const double t = (f - leave[group]) / kFps;
+    const glm::dvec3 c = twist(layout.centroids[group], leave[group]);
+    glm::dvec3 out(c.x, 0.0, c.z);
+    out = glm::length(out) > 1e-9 ? glm::normalize(out) : glm::dvec3(1.0, 0.0, 0.0);
+    const glm::dvec3 p = c + rotation({0.0, 1.0, 0.0}, 1.0 * t) * (twist(x, leave[group]) - c);
+    return p + 0.6 * t * out + glm::dvec3(0.0, -2.0 * t * t, 0.0);
+  };
+  const Json animation = write_frames_animation(setup, layout.set, dup, motion);
+
+  SceneText text;
+  text.title = "twisted plastic clay";
+  text.comment = "The paper's plastic clay (section 6): large twisting, plastic deformation before it tears, refined in "
+                 "a 32x64x64 fBm field (paper: 510 -> 40K triangles).";
+  text.exterior = "clay.obj";
+  text.mesh = "clay_coarse.mesh";
+  text.field = "fbm";
+  text.resolution = {32, 64, 64};
+  text.max_triangles = 40000;
+  return scene_json(setup, text, animation);
+}
+
+Json make_jello(const SceneSetup& setup) {
+  const glm::dvec3 lo(-1.0, -1.0, 0.0), hi(1.0, 1.0, 1.0);
+  const TriMesh exterior = make_box(lo, hi, {40, 40, 20});
+  write_obj(setup.folder / "jello.obj", exterior, "Jell-O block 2 x 2 x 1, z up");
+  Rng rng(setup.seed ^ 0x7e110ull);
+  PieceLayout layout = piece_layout(exterior, {lo, hi, {10, 10, 5}}, {488, 5, 12, 8}, rng,
+                                    [](const glm::dvec3&) { return 1.0; });
+  // Gradual fracture: the piece at the centre of the base stays; the others come off one by one.
+  const int main = piece_near(layout, {0.0, 0.0, 0.0});
+  std::vector<int> order = others(layout.pieces, main);
+  for (std::size_t i = order.size(); i > 1; --i) std::swap(order[i - 1], order[rng.next() % i]);
+  const std::vector<int> leave = detach_frames(layout.pieces, main, order, 14, 44);
+  const Duplication dup = duplicate_vertices(layout.set, layout.labels, leave, {});
+  write_medit(setup.folder / "jello_coarse.mesh", layout.set, layout.labels);
+
+  // Bounces on its base with squash and stretch (volume kept) and a decaying wobble; a piece
+  // that breaks off keeps wobbling while it slides outward and tips over.
+  const double hop = 0.3 + 0.2 * rng.uniform();
+  const auto bounce = [hop](const glm::dvec3& x, int f) {
+    const double t = f / kFps, decay = std::exp(-t / 1.5), w = 2.0 * std::numbers::pi * 0.75;
+    const double height = hop * decay * std::abs(std::cos(w * t)), s = 1.0 + 0.3 * decay * std::cos(2.0 * w * t);
+    const double wobble = 0.08 * decay * std::sin(3.0 * w * t), across = 1.0 / std::sqrt(s);
+    return glm::dvec3(across * x.x + wobble * x.z, across * x.y, height + s * x.z);
+  };
+  const Motion motion = [=](const glm::dvec3& x, int group, int f) {
+    const glm::dvec3 p = bounce(x, f);
+    if (group < 0 || f <= leave[group]) return p;
+    const double t = (f - leave[group]) / kFps;
+    const glm::dvec3 c = bounce(layout.centroids[group], f);
+    glm::dvec3 out(c.x, c.y, 0.0);
+    out = glm::length(out) > 1e-9 ? glm::normalize(out) : glm::dvec3(1.0, 0.0, 0.0);
+    const glm::dvec3 axis = glm::normalize(glm::cross(glm::dvec3(0.0, 0.0, 1.0), out));
+    return c + rotation(axis, std::min(0.7, 1.5 * t)) * (p - c) + 0.8 * t * out;
+  };
+  const Json animation = write_frames_animation(setup, layout.set, dup, motion);
+
+  SceneText text;
+  text.title = "Jell-O with fruit cubes";
+  text.comment = "The paper's Jell-O (section 6): elastic bouncing and gradual fracture, refined in a 64x64x32 field of "
+                 "hard inclusions in soft jelly (paper: 488 -> 32K triangles).";
+  text.exterior = "jello.obj";
+  text.mesh = "jello_coarse.mesh";
+  text.field = "inclusions";
+  text.resolution = {64, 64, 32};
+  text.max_triangles = 32000;
+  return scene_json(setup, text, animation);
+}
+
+}  // namespace fracref::scenegen_detail

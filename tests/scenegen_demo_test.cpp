@@ -1,0 +1,397 @@
+// The paper's five demo scenes, generated and then loaded the way a user's run loads them.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "coarse/animation.hpp"
+#include "coarse/coarse_model.hpp"
+#include "geom/bvh.hpp"
+#include "geom/intersect.hpp"
+#include "io/mesh_io.hpp"
+#include "scene/scene.hpp"
+#include "scenegen/scenegen.hpp"
+#include "surface/fracture_surface.hpp"
+#include "util/error.hpp"
+
+namespace {
+using namespace fracref;
+
+namespace fs = std::filesystem;
+
+/// A fresh, empty folder under the temp directory, removed when the object goes.
+class TempFolder {
+ public:
+  explicit TempFolder(const std::string& tag) {
+    static std::atomic<int> counter{0};
+    path_ = fs::temp_directory_path() /
+            ("fracref_scenegen_" + tag + "_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempFolder() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+/// A demo scene loaded through the ordinary user path.
+struct LoadedDemo {
+  Scene scene;
+  CoarseModel model;
+  CoarseAnimation animation;
+};
+
+LoadedDemo load_demo(const fs::path& scene_file) {
+  LoadedDemo d;
+  d.scene = load_scene(scene_file);
+  TetModelOptions options;
+  options.virtual_fracture = d.scene.fracture.virtual_fracture;
+  d.model = load_tet_model(d.scene.fracture.mesh, d.scene.fracture.cracks, options);
+  const AnimationSpec& a = d.scene.animation;
+  if (a.kind == AnimationKind::frames)
+    d.animation = load_frames(a.frames, a.first, a.count, a.fps, a.parent_map, d.model);
+  else if (a.kind == AnimationKind::rigid)
+    d.animation = load_rigid(a.transforms, a.fps, d.model);
+  return d;
+}
+
+/// Every file under `folder` (relative path -> bytes).
+std::map<std::string, std::string> folder_bytes(const fs::path& folder) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(folder)) {
+    if (!e.is_regular_file()) continue;
+    std::ifstream in(e.path(), std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    out[fs::relative(e.path(), folder).generic_string()] = s.str();
+  }
+  return out;
+}
+
+/// The npm bunny as set-up leaves it (source/.cache/bunny.obj or build*/data/bunny.obj), or "".
+fs::path find_bunny() {
+  const fs::path source = FRACREF_SOURCE_DIR;
+  if (fs::is_regular_file(source / ".cache" / "bunny.obj")) return source / ".cache" / "bunny.obj";
+  std::vector<fs::path> found;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(source, ec))
+    if (e.path().filename().string().rfind("build", 0) == 0 && fs::is_regular_file(e.path() / "data" / "bunny.obj"))
+      found.push_back(e.path() / "data" / "bunny.obj");
+  std::sort(found.begin(), found.end());
+  return found.empty() ? fs::path() : found.front();
+}
+
+std::size_t paper_coarse_triangles(const std::string& name) {
+  for (const DemoTarget& t : demo_scene_targets())
+    if (t.name == name) return t.coarse_triangles;
+  return 0;
+}
+
+
+/// Welded model vertex of each corner of S's face f, wound outward from `piece`.
+glm::uvec3 outward_surface_face(const CoarseModel& m, std::uint32_t f, int piece) {
+  const glm::uvec4 face = m.surface.faces[f];
+  glm::uvec3 v(m.surface_to_model_vertex[face.x], m.surface_to_model_vertex[face.y], m.surface_to_model_vertex[face.z]);
+  if (m.surface.face_pieces[f].x == piece) std::swap(v.y, v.z);  // the normal points into the front
+  return v;
+}
+
+/// "" when every piece's hull faces and fracture faces form a closed surface (each directed
+/// edge once, its reverse once) enclosing a positive volume; else what is wrong.
+std::string pieces_closed(const CoarseModel& m) {
+  for (int p = 0; p < m.piece_count; ++p) {
+    std::vector<glm::uvec3> faces;
+    for (std::size_t h = 0; h < m.hull.size(); ++h)
+      if (m.hull_piece[h] == p)
+        faces.push_back({m.vertex_weld[m.hull[h].x], m.vertex_weld[m.hull[h].y], m.vertex_weld[m.hull[h].z]});
+    for (std::uint32_t f = 0; f < m.surface.faces.size(); ++f)
+      if (m.surface.face_pieces[f].x == p || m.surface.face_pieces[f].y == p) faces.push_back(outward_surface_face(m, f, p));
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+    double volume = 0.0;
+    for (const glm::uvec3& f : faces) {
+      for (int e = 0; e < 3; ++e) ++directed[{f[e], f[(e + 1) % 3]}];
+      volume += glm::dot(m.vertices[f.x], glm::cross(m.vertices[f.y], m.vertices[f.z])) / 6.0;
+    }
+    for (const auto& [e, n] : directed) {
+      const auto back = directed.find({e.second, e.first});
+      if (n != 1 || back == directed.end() || back->second != 1)
+        return "piece " + std::to_string(p) + ": edge " + std::to_string(e.first) + "-" + std::to_string(e.second) +
+               " is used " + std::to_string(n) + " times, its reverse " +
+               std::to_string(back == directed.end() ? 0 : back->second);
+    }
+    if (!(volume > 0.0)) return "piece " + std::to_string(p) + ": volume " + std::to_string(volume);
+  }
+  return "";
+}
+
+/// "" when the mesh is closed (each directed edge once, its reverse once) with positive volume.
+std::string mesh_closed(const MeshSoup& mesh) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  double volume = 0.0;
+  for (const auto& t : mesh.triangles) {
+    for (int e = 0; e < 3; ++e) ++directed[{t[e], t[(e + 1) % 3]}];
+    volume += glm::dot(mesh.positions[t[0]], glm::cross(mesh.positions[t[1]], mesh.positions[t[2]])) / 6.0;
+  }
+  for (const auto& [e, n] : directed) {
+    const auto back = directed.find({e.second, e.first});
+    if (n != 1 || back == directed.end() || back->second != 1)
+      return "edge " + std::to_string(e.first) + "-" + std::to_string(e.second) + " is not closed";
+  }
+  return volume > 0.0 ? "" : "negative volume";
+}
+
+std::size_t surface_self_intersections(const FractureSurface& s) {
+  std::vector<glm::dvec3> positions;
+  for (const glm::vec4& p : s.positions) positions.push_back(glm::dvec3(p));
+  std::vector<TriangleIds> faces;
+  for (const glm::uvec4& f : s.faces) faces.push_back({f.x, f.y, f.z});
+  return find_self_intersections(positions, faces, std::size_t(10)).size();
+}
+
+/// The largest distance from a boundary vertex of S to the exterior, over its bbox diagonal.
+double boundary_gap(const LoadedDemo& d) {
+  const MeshSoup exterior = read_mesh(d.scene.exterior);
+  const Bvh bvh = build_bvh(exterior.positions, exterior.triangles);
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const glm::dvec3& p : exterior.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  double gap = 0.0;
+  for (std::size_t v = 0; v < d.model.surface.positions.size(); ++v)
+    if (d.model.surface.vertex_flags[v] & kVertexBoundary)
+      gap = std::max(gap, std::sqrt(closest_point(bvh, glm::dvec3(d.model.surface.positions[v])).squared_distance));
+  return gap / glm::distance(lo, hi);
+}
+
+/// The checks every demo must pass; returns the loaded demo for scene-specific checks.
+LoadedDemo check_demo(const std::string& name, const DemoOptions& options, const fs::path& folder) {
+  const fs::path file = generate_demo_scene(name, folder, options);
+  EXPECT_EQ(file, folder / (name + ".json"));
+  LoadedDemo d = load_demo(file);
+  const std::size_t coarse = d.model.surface.faces.size(), paper = paper_coarse_triangles(name);
+  std::printf("[ scenegen ] %s: %zu coarse fracture triangles (paper %zu), %d pieces, %zu tets, %zu vertices, "
+              "virtual fracture added %zu, boundary gap %.4f of the diagonal\n",
+              name.c_str(), coarse, paper, d.model.piece_count, d.model.tets.size(), d.model.vertices.size(),
+              d.model.virtual_faces_added, boundary_gap(d));
+  EXPECT_GE(double(coarse), 0.75 * double(paper)) << name;
+  EXPECT_LE(double(coarse), 1.25 * double(paper)) << name;
+  EXPECT_EQ(validate(d.model.surface), "") << name;
+  EXPECT_EQ(surface_self_intersections(d.model.surface), 0u) << name;
+  EXPECT_EQ(pieces_closed(d.model), "") << name;
+  EXPECT_EQ(d.model.inverted_fixed, 0u) << name;
+  EXPECT_GE(d.model.piece_count, 2) << name;
+  EXPECT_EQ(mesh_closed(read_mesh(d.scene.exterior)), "") << name;
+  EXPECT_LT(boundary_gap(d), 0.05) << name;
+  EXPECT_EQ(d.animation.frames.size(), 48u) << name;
+  for (const auto& frame : d.animation.frames) EXPECT_EQ(frame.size(), d.model.vertices.size()) << name;
+  EXPECT_DOUBLE_EQ(d.animation.fps, 24.0);
+  for (const DemoTarget& t : demo_scene_targets())
+    if (t.name == name) {
+      EXPECT_EQ(d.scene.refine.max_triangles, std::int64_t(t.refined_triangles));
+    }
+  EXPECT_EQ(d.scene.field.seed, options.seed);
+  EXPECT_EQ(d.scene.refine.seed, options.seed);
+  return d;
+}
+
+/// Frames scenes: vertex counts grow from the intact mesh to the model's (backward remeshing).
+void check_backward_remeshing(const LoadedDemo& d) {
+  ASSERT_EQ(d.scene.animation.kind, AnimationKind::frames);
+  ASSERT_FALSE(d.scene.animation.parent_map.empty());
+  const auto& counts = d.animation.file_vertex_counts;
+  ASSERT_EQ(counts.size(), 48u);
+  for (std::size_t f = 1; f < counts.size(); ++f) EXPECT_GE(counts[f], counts[f - 1]);
+  EXPECT_LT(counts.front(), counts.back());
+  EXPECT_EQ(counts.back(), d.model.vertices.size());
+  // The first frame has one vertex per material point: no duplicates yet.
+  std::size_t distinct = 0;
+  for (std::size_t v = 0; v < d.model.vertex_weld.size(); ++v) distinct += d.model.vertex_weld[v] == v;
+  EXPECT_EQ(counts.front(), distinct);
+}
+
+/// Largest distance a model vertex moves between its rest position and `frame`.
+double largest_motion(const LoadedDemo& d, std::size_t frame) {
+  double m = 0.0;
+  for (std::size_t v = 0; v < d.model.vertices.size(); ++v)
+    m = std::max(m, glm::distance(d.model.vertices[v], d.animation.frames[frame][v]));
+  return m;
+}
+
+/// Largest distance between two copies of one material point in `frame`: how far a crack opened.
+double largest_opening(const LoadedDemo& d, std::size_t frame) {
+  double m = 0.0;
+  for (std::size_t v = 0; v < d.model.vertices.size(); ++v)
+    m = std::max(m, glm::distance(d.animation.frames[frame][v], d.animation.frames[frame][d.model.vertex_weld[v]]));
+  return m;
+}
+
+}  // namespace
+
+TEST(ScenegenDemo, NamesAndTargets) {
+  EXPECT_EQ(demo_scene_names(), (std::vector<std::string>{"bunny", "branch", "wall", "clay", "jello"}));
+  const auto targets = demo_scene_targets();
+  ASSERT_EQ(targets.size(), 5u);
+  EXPECT_EQ(targets[0].coarse_triangles, 256u);
+  EXPECT_EQ(targets[2].refined_triangles, 208000u);
+}
+
+TEST(ScenegenDemo, Branch) {
+  TempFolder folder("branch");
+  const LoadedDemo d = check_demo("branch", {}, folder.path());
+  EXPECT_EQ(d.scene.field.type, FieldType::branch);
+  EXPECT_EQ(d.scene.field.resolution, glm::uvec3(32, 32, 64));
+  ASSERT_FALSE(d.scene.fracture.cracks.empty());
+  // One labelled piece and an incomplete crack, which virtual fracture completes into two pieces.
+  EXPECT_EQ(d.model.piece_count, 2);
+  EXPECT_GT(d.model.virtual_faces_added, 0u);
+  check_backward_remeshing(d);
+  // Bends before the snap (frame 20) without opening; the crack opens after it.
+  EXPECT_GT(largest_motion(d, 19), 0.1);
+  EXPECT_EQ(largest_opening(d, 20), 0.0);
+  EXPECT_GT(largest_opening(d, 47), 0.3);
+  EXPECT_EQ(d.animation.file_vertex_counts[19], d.animation.file_vertex_counts[0]);
+  EXPECT_EQ(d.animation.file_vertex_counts[20], d.animation.file_vertex_counts[47]);
+}
+
+TEST(ScenegenDemo, Wall) {
+  TempFolder folder("wall");
+  const LoadedDemo d = check_demo("wall", {}, folder.path());
+  EXPECT_EQ(d.scene.field.type, FieldType::brick);
+  EXPECT_EQ(d.scene.field.resolution, glm::uvec3(150, 50, 10));
+  ASSERT_EQ(d.scene.animation.kind, AnimationKind::rigid);
+  ASSERT_EQ(d.animation.piece_transforms.size(), 48u);
+  // Some pieces are knocked away, some stay where they were.
+  std::size_t moved = 0, still = 0;
+  for (int p = 0; p < d.model.piece_count; ++p) {
+    const glm::dmat4& m = d.animation.piece_transforms[47][p];
+    (m == glm::dmat4(1.0) ? still : moved) += 1;
+  }
+  EXPECT_GT(moved, 0u);
+  EXPECT_GT(still, 0u);
+  EXPECT_EQ(largest_motion(d, 0), 0.0);
+}
+
+TEST(ScenegenDemo, Clay) {
+  TempFolder folder("clay");
+  const LoadedDemo d = check_demo("clay", {}, folder.path());
+  EXPECT_EQ(d.scene.field.type, FieldType::fbm);
+  EXPECT_EQ(d.scene.field.resolution, glm::uvec3(32, 64, 64));
+  check_backward_remeshing(d);
+  // Large twisting before anything tears (late: from frame 30).
+  EXPECT_GT(largest_motion(d, 29), 0.5);
+  EXPECT_EQ(largest_opening(d, 29), 0.0);
+  EXPECT_EQ(d.animation.file_vertex_counts[29], d.animation.file_vertex_counts[0]);
+  EXPECT_GT(largest_opening(d, 47), 0.1);
+}
+
+TEST(ScenegenDemo, Jello) {
+  TempFolder folder("jello");
+  const LoadedDemo d = check_demo("jello", {}, folder.path());
+  EXPECT_EQ(d.scene.field.type, FieldType::inclusions);
+  EXPECT_EQ(d.scene.field.resolution, glm::uvec3(64, 64, 32));
+  check_backward_remeshing(d);
+  // Gradual: the cracks open at several different frames.
+  std::size_t steps = 0;
+  for (std::size_t f = 1; f < 48; ++f) steps += d.animation.file_vertex_counts[f] != d.animation.file_vertex_counts[f - 1];
+  EXPECT_GE(steps, 3u);
+  EXPECT_GT(largest_opening(d, 47), 0.1);
+  // Squash and stretch: the height of the block changes.
+  const auto height = [&](std::size_t f) {
+    double lo = 1e300, hi = -1e300;
+    for (const glm::dvec3& p : d.animation.frames[f]) lo = std::min(lo, p.z), hi = std::max(hi, p.z);
+    return hi - lo;
+  };
+  EXPECT_GT(std::abs(height(0) - height(8)), 0.1);
+}
+
+TEST(ScenegenDemo, Bunny) {
+  const fs::path bunny = find_bunny();
+  if (bunny.empty()) GTEST_SKIP() << "no bunny.obj in " FRACREF_SOURCE_DIR "/.cache or build*/data (set-up fetches npm bunny@1.0.1)";
+  TempFolder folder("bunny");
+  DemoOptions options;
+  options.bunny_obj = bunny;
+  const LoadedDemo d = check_demo("bunny", options, folder.path());
+  EXPECT_EQ(d.scene.field.type, FieldType::marble);
+  EXPECT_EQ(d.scene.field.resolution, glm::uvec3(50, 50, 50));
+  ASSERT_EQ(d.scene.animation.kind, AnimationKind::rigid);
+  EXPECT_EQ(folder_bytes(folder.path())["bunny.obj"], folder_bytes(bunny.parent_path())[bunny.filename().string()]);
+  // The pieces fall: every piece is lower at the end.
+  for (int p = 0; p < d.model.piece_count; ++p) EXPECT_LT(d.animation.piece_transforms[47][p][3][1], -1.0);
+}
+
+TEST(ScenegenDemo, SameSeedSameFilesOtherSeedOtherPieces) {
+  for (const std::string name : {"branch", "wall", "clay", "jello"}) {
+    TempFolder a("same_a"), b("same_b"), c("other");
+    DemoOptions options;
+    options.seed = 7;
+    generate_demo_scene(name, a.path(), options);
+    generate_demo_scene(name, b.path(), options);
+    const auto bytes = folder_bytes(a.path());
+    EXPECT_EQ(bytes, folder_bytes(b.path())) << name;
+    EXPECT_GE(bytes.size(), 4u) << name;
+    options.seed = 8;
+    generate_demo_scene(name, c.path(), options);
+    const auto other = folder_bytes(c.path());
+    EXPECT_NE(bytes.at(name + ".json"), other.at(name + ".json")) << name;
+    // Any seed still gives the paper's coarse count (within 25%) and clean pieces.
+    const LoadedDemo d = load_demo(c.path() / (name + ".json"));
+    EXPECT_NEAR(double(d.model.surface.faces.size()), double(paper_coarse_triangles(name)),
+                0.25 * double(paper_coarse_triangles(name))) << name;
+    EXPECT_EQ(pieces_closed(d.model), "") << name;
+  }
+}
+
+TEST(ScenegenDemo, AllScenesInOneFolder) {
+  TempFolder folder("all");
+  for (const std::string name : {"branch", "wall", "clay", "jello"}) generate_demo_scene(name, folder.path());
+  for (const std::string name : {"branch", "wall", "clay", "jello"}) {
+    const LoadedDemo d = load_demo(folder.path() / (name + ".json"));
+    EXPECT_EQ(d.animation.frames.size(), 48u) << name;
+  }
+}
+
+TEST(ScenegenDemo, Errors) {
+  TempFolder folder("errors");
+  try {
+    generate_demo_scene("teapot", folder.path());
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'teapot'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("bunny, branch, wall, clay, jello"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(generate_demo_scene("bunny", folder.path()), InputError);
+  DemoOptions missing;
+  missing.bunny_obj = folder.path() / "nowhere.obj";
+  try {
+    generate_demo_scene("bunny", folder.path(), missing);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("nowhere.obj"), std::string::npos) << e.what();
+  }
+  // An open mesh is no exterior.
+  {
+    std::ofstream open(folder.path() / "open.obj");
+    open << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n";
+  }
+  DemoOptions open_bunny;
+  open_bunny.bunny_obj = folder.path() / "open.obj";
+  try {
+    generate_demo_scene("bunny", folder.path(), open_bunny);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("open.obj"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not a closed mesh"), std::string::npos) << e.what();
+  }
+}
