@@ -231,10 +231,55 @@ bool solve(Query& q, const CcdOptions& options, CcdStats* stats) {
 
 }  // namespace
 
+namespace {
+
+// A cheap conservative filter before the inclusion solver. Every point of a primitive moves on a
+// convex combination of its corners' straight paths, so it travels at most its fastest corner's
+// displacement; the distance between the two primitives therefore shrinks by at most the sum of
+// both maxima. When the starting distance exceeds that sum (plus the solver's tolerance and a
+// relative margin for the rounding of the distance itself), no contact is possible.
+double max_travel(const dvec3* x0, const dvec3* x1, int first, int count) {
+  double m = 0.0;
+  for (int i = first; i < first + count; ++i) m = std::max(m, glm::length(x1[i] - x0[i]));
+  return m;
+}
+
+double segment_distance(const dvec3& p, const dvec3& q, const dvec3& r, const dvec3& s) {
+  const dvec3 d1 = q - p, d2 = s - r, w = p - r;
+  const double a = glm::dot(d1, d1), e = glm::dot(d2, d2), f = glm::dot(d2, w);
+  double u = 0.0, v = 0.0;
+  if (a <= 0.0 && e <= 0.0) return glm::length(w);
+  if (a <= 0.0) {
+    v = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = glm::dot(d1, w);
+    if (e <= 0.0) {
+      u = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = glm::dot(d1, d2), den = a * e - b * b;
+      u = den > 0.0 ? std::clamp((b * f - c * e) / den, 0.0, 1.0) : 0.0;
+      v = (b * u + f) / e;
+      if (v < 0.0) v = 0.0, u = std::clamp(-c / a, 0.0, 1.0);
+      else if (v > 1.0) v = 1.0, u = std::clamp((b - c) / a, 0.0, 1.0);
+    }
+  }
+  return glm::length((p + u * d1) - (r + v * d2));
+}
+
+bool far_apart(double distance, const dvec3* x0, const dvec3* x1, int split, const CcdOptions& o) {
+  double reach = max_travel(x0, x1, 0, split) + max_travel(x0, x1, split, 4 - split);
+  double scale = 0.0;
+  for (int i = 0; i < 4; ++i) scale = std::max({scale, std::abs(x0[i].x), std::abs(x0[i].y), std::abs(x0[i].z)});
+  return distance > reach + o.min_distance + o.tolerance + 1e-12 * scale + 1e-9 * distance;
+}
+
+}  // namespace
+
 bool ccd_vertex_triangle(const dvec3& p0, const dvec3& a0, const dvec3& b0, const dvec3& c0, const dvec3& p1,
                          const dvec3& a1, const dvec3& b1, const dvec3& c1, const CcdOptions& options,
                          CcdStats* stats) {
   const dvec3 x0[4] = {p0, a0, b0, c0}, x1[4] = {p1, a1, b1, c1};
+  if (far_apart(std::sqrt(closest_point_on_triangle(p0, a0, b0, c0).squared_distance), x0, x1, 1, options)) return false;
   Query q = make_query(true, x0, x1, options);
   return solve(q, options, stats);
 }
@@ -242,6 +287,7 @@ bool ccd_vertex_triangle(const dvec3& p0, const dvec3& a0, const dvec3& b0, cons
 bool ccd_edge_edge(const dvec3& a0, const dvec3& b0, const dvec3& c0, const dvec3& d0, const dvec3& a1,
                    const dvec3& b1, const dvec3& c1, const dvec3& d1, const CcdOptions& options, CcdStats* stats) {
   const dvec3 x0[4] = {a0, b0, c0, d0}, x1[4] = {a1, b1, c1, d1};
+  if (far_apart(segment_distance(a0, b0, c0, d0), x0, x1, 2, options)) return false;
   Query q = make_query(false, x0, x1, options);
   return solve(q, options, stats);
 }

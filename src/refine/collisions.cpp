@@ -55,15 +55,16 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
   StepCcdOptions opts;
   opts.ccd.tolerance = 1e-7 * b.diagonal();
   const std::vector<glm::dvec3> p0 = to_double(x0);
-  // Each round resets every vertex of every colliding pair; the moving set shrinks strictly, and
-  // a motion where nothing moves is collision-free, so the loop ends.
-  for (int round = 0; round < 64; ++round) {
+  // Each round resets every vertex of every colliding pair; the moving set shrinks strictly, so
+  // the loop ends.
+  for (;;) {
     std::vector<glm::dvec3> p1 = to_double(x1);
     std::vector<CcdPair> pairs = find_step_collisions(p0, p1, tris, opts);
     opts.ignored_vertices = &on_b;
     std::vector<CcdPair> with_b = find_step_collisions_with_static(p0, p1, tris, b.bvh.positions, b.bvh.triangles, opts);
     opts.ignored_vertices = nullptr;
     if (pairs.empty() && with_b.empty()) break;
+    const std::size_t before = stopped;
     auto freeze = [&](std::uint32_t v) {
       if (x1[v] != x0[v]) x1[v] = x0[v], ++stopped;
     };
@@ -74,6 +75,9 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
       else if (p.kind == CcdKind::triangle_vertex) freeze(p.vertices[1]), freeze(p.vertices[2]), freeze(p.vertices[3]);
       else freeze(p.vertices[0]), freeze(p.vertices[1]);
     }
+    // A pair whose vertices all stay put was within the CCD tolerance before the step already
+    // (conservative CCD reports such contacts): holding vertices back cannot change it.
+    if (stopped == before) break;
   }
   return stopped;
 }

@@ -37,8 +37,11 @@ class Refiner {
   std::vector<glm::vec3> boundary_tangents() const;
   std::vector<float> stiffness_steps() const;
   IterationStats flow_step();
-  std::size_t refine_step(std::uint32_t iteration, float dt);
-  glm::vec3 element_displacement(const SplitRequest& r, float dt) const;
+  std::size_t refine_step(std::uint32_t iteration);
+  struct ElementMotion {
+    glm::vec3 sample{0.0f}, interpolated{0.0f};
+  };
+  ElementMotion element_motion(const SplitRequest& r, const glm::vec3& v_sample, float shortest) const;
   void drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::vector<glm::vec3>& start,
                                  std::vector<glm::vec3>& target) const;
 
@@ -49,7 +52,6 @@ class Refiner {
   RefineOptions o_;
   RefinementTree tree_;
   std::vector<glm::vec4> samples_, velocity_;
-  std::vector<float> shortest_;  // per vertex, for the refinement step
 };
 
 void Refiner::evaluate() {
@@ -142,23 +144,29 @@ IterationStats Refiner::flow_step() {
   const std::vector<float> stiff_dt = stiffness_steps();
   float dt = choose_dt(shortest);
   const std::vector<glm::vec4> x0 = s_.positions;
-  for (int attempt = 0; attempt <= kBacktracks && dt > 0.0f; ++attempt, dt *= 0.5f) {
+  std::vector<glm::vec4> full = x0;
+  for (std::size_t i = 0; i < x0.size(); ++i) {
+    glm::vec3 d = std::min(dt, stiff_dt[i]) * glm::vec3(velocity_[i]);
+    d -= glm::dot(d, boundary_tangent[i]) * boundary_tangent[i];
+    float len = glm::length(d), cap = kStepFraction * shortest[i];
+    if (len > cap) d *= cap / len;
+    full[i] = glm::vec4(glm::vec3(x0[i]) + d, 1.0f);
+  }
+  apply_boundary_constraint(s_, b_, x0, full);
+  st.collisions_stopped = o_.collisions ? apply_collision_constraints(s_, b_, x0, full) : 0;
+  // Backtracking shortens the constrained, collision-free motion: every vertex then follows the
+  // first part of the same straight path, which is collision-free too (boundary vertices are
+  // projected back onto B, a deviation of second order in the step).
+  float fraction = 1.0f;
+  for (int attempt = 0; attempt <= kBacktracks; ++attempt, fraction *= 0.5f) {
     std::vector<glm::vec4> x1 = x0;
-    for (std::size_t i = 0; i < x0.size(); ++i) {
-      glm::vec3 d = std::min(dt, stiff_dt[i]) * glm::vec3(velocity_[i]);
-      d -= glm::dot(d, boundary_tangent[i]) * boundary_tangent[i];
-      float len = glm::length(d), cap = kStepFraction * shortest[i];
-      if (len > cap) d *= cap / len;
-      x1[i] = glm::vec4(glm::vec3(x0[i]) + d, 1.0f);
-    }
-    apply_boundary_constraint(s_, b_, x0, x1);
-    st.collisions_stopped = o_.collisions ? apply_collision_constraints(s_, b_, x0, x1) : 0;
+    for (std::size_t i = 0; i < x0.size(); ++i) x1[i] = x0[i] + fraction * (full[i] - x0[i]);
+    if (attempt > 0) apply_boundary_constraint(s_, b_, x0, x1);
     s_.positions = x1;
     std::vector<glm::vec4> trial(x1.size()), vel(x1.size());
     be_.vertex_velocities(view(), trial, vel);
-    double e1 = surface_energy(view(), trial);
-    if (e1 <= e0) {
-      st.dt = dt;
+    if (surface_energy(view(), trial) <= e0) {
+      st.dt = dt * fraction;
       for (std::size_t i = 0; i < x0.size(); ++i)
         st.max_displacement = std::max<double>(st.max_displacement, glm::distance(glm::vec3(x0[i]), glm::vec3(x1[i])));
       samples_ = std::move(trial);
@@ -227,7 +235,7 @@ SplitEffect split_effect(const FractureSurface& s, const std::vector<glm::vec4>&
 // lowers the energy. The tree records the sample's weights on its parent element (its position
 // at creation); the move to the stepped position is motion like any other, checked for collisions
 // on a trial copy first so that S stays intersection-free.
-std::size_t Refiner::refine_step(std::uint32_t iteration, float dt) {
+std::size_t Refiner::refine_step(std::uint32_t iteration) {
   const float scale = float(o_.scale);
   SampleSet set = draw_samples(s_, o_.seed, iteration, float(o_.delta) * scale);
   std::vector<char> on_boundary(set.points.size(), 0);
@@ -238,7 +246,6 @@ std::size_t Refiner::refine_step(std::uint32_t iteration, float dt) {
       on_boundary[k] = 1;
     }
   }
-  shortest_ = shortest_edges();
   std::vector<glm::vec4> out(set.points.size());
   be_.sample_tests(s_.positions, samples_, SampleView{set.points, set.fan_offsets, set.fan_pairs}, out);
   std::vector<char> touched(s_.faces.size(), 0);
@@ -247,14 +254,15 @@ std::size_t Refiner::refine_step(std::uint32_t iteration, float dt) {
   std::size_t faces = s_.faces.size();
   for (std::size_t k = 0; k < set.points.size(); ++k) {
     glm::vec3 p(set.points[k]);
-    glm::vec3 d = dt * glm::vec3(out[k]);
-    SplitEffect fx = split_effect(s_, samples_, set.requests[k], p, out[k].w, d);
-    float cap = kStepFraction * fx.shortest, len = glm::length(d);
-    if (len > cap) d *= cap / len;
-    // Distance from the moved element: the sample's motion relative to the motion the element's
-    // own vertices interpolate to at the sample (zero where ψ is linear over the element).
-    glm::vec3 rel = d - element_displacement(set.requests[k], dt);
-    fx = split_effect(s_, samples_, set.requests[k], p, out[k].w, rel);
+    // Each sample is judged over its own element's time scale: the step that moves the element's
+    // fastest point (the sample or a corner) by kStepFraction of the element's shortest edge.
+    // Its distance from the moved element is its motion relative to the motion the corners
+    // interpolate to at the sample: zero where ψ is linear over the element, so elements split
+    // where the field has detail at their size, and refinement stops once ψ is linear at τ.
+    SplitEffect fx = split_effect(s_, samples_, set.requests[k], p, out[k].w, glm::vec3(0.0f));
+    ElementMotion m = element_motion(set.requests[k], glm::vec3(out[k]), fx.shortest);
+    glm::vec3 d = m.sample;
+    fx = split_effect(s_, samples_, set.requests[k], p, out[k].w, m.sample - m.interpolated);
     if (fx.offset <= float(o_.tau) * scale) continue;
     if (std::any_of(fx.faces.begin(), fx.faces.end(), [&](std::uint32_t f) { return touched[f] != 0; })) continue;
     // The full step overshoots where the new faces' extra area outweighs the weaker material
@@ -280,18 +288,19 @@ std::size_t Refiner::refine_step(std::uint32_t iteration, float dt) {
   return chosen.size();
 }
 
-glm::vec3 Refiner::element_displacement(const SplitRequest& r, float dt) const {
-  auto step = [&](std::uint32_t v) {
-    glm::vec3 d = dt * glm::vec3(velocity_[v]);
-    float len = glm::length(d), cap = kStepFraction * shortest_[v];
-    return len > cap ? d * (cap / len) : d;
-  };
-  if (r.kind == SplitRequest::kFace) {
-    glm::uvec4 f = s_.faces[r.element];
-    return r.weights.x * step(f.x) + r.weights.y * step(f.y) + r.weights.z * step(f.z);
-  }
-  glm::uvec2 e = s_.edges[r.element];
-  return r.weights.x * step(e.x) + r.weights.y * step(e.y);
+Refiner::ElementMotion Refiner::element_motion(const SplitRequest& r, const glm::vec3& v_sample, float shortest) const {
+  glm::uvec3 corners(0u);
+  int n = 3;
+  if (r.kind == SplitRequest::kFace) corners = glm::uvec3(s_.faces[r.element]);
+  else corners = glm::uvec3(s_.edges[r.element], 0u), n = 2;
+  float fastest = glm::length(v_sample);
+  for (int c = 0; c < n; ++c) fastest = std::max(fastest, glm::length(glm::vec3(velocity_[corners[c]])));
+  ElementMotion m;
+  if (!(fastest > 0.0f)) return m;
+  float dt = kStepFraction * shortest / fastest;
+  m.sample = dt * v_sample;
+  for (int c = 0; c < n; ++c) m.interpolated += r.weights[c] * dt * glm::vec3(velocity_[corners[c]]);
+  return m;
 }
 
 void Refiner::drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::vector<glm::vec3>& start,
@@ -322,10 +331,8 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   evaluate();
   result.initial_energy = energy();
   for (int it = 0; it < o_.max_iterations; ++it) {
-    float nominal_dt = 0.0f;
     IterationStats st = flow_step();
-    nominal_dt = st.dt > 0.0f ? float(st.dt) : choose_dt(shortest_edges());
-    st.splits = refine_step(std::uint32_t(it), nominal_dt);
+    st.splits = refine_step(std::uint32_t(it));
     evaluate();
     st.flips = flip_slim_triangles(s_, samples_, b_, FlipOptions{o_.min_angle});
     evaluate();
