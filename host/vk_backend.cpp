@@ -23,7 +23,9 @@ constexpr BindingType kU = BindingType::UniformBuffer;
 // Offsets of the two VkDispatchIndirectCommand in the indirect buffer.
 constexpr VkDeviceSize kVertexDispatch = 0, kSampleDispatch = sizeof(VkDispatchIndirectCommand);
 
-void check_formats(const VulkanContext& context) {
+// Returns `context` once it is known to read every format the kernels use as texel buffers
+// (called before the arrays are created, so the error is this one and not a Vulkan failure).
+VulkanContext& check_formats(VulkanContext& context) {
   const std::pair<VkFormat, const char*> formats[] = {{VK_FORMAT_R32G32B32A32_SFLOAT, "R32G32B32A32_SFLOAT"},
                                                       {VK_FORMAT_R32G32B32A32_UINT, "R32G32B32A32_UINT"},
                                                       {VK_FORMAT_R32G32_UINT, "R32G32_UINT"},
@@ -36,6 +38,7 @@ void check_formats(const VulkanContext& context) {
                      " as a uniform texel buffer: use the CPU backend");
     }
   }
+  return context;
 }
 
 void require(bool ok, const char* call, const std::string& what) {
@@ -122,8 +125,7 @@ struct VulkanBackend::Impl {
   std::unique_ptr<FlowKernel> k1, k2, k3;
 };
 
-VulkanBackend::Impl::Impl(VulkanContext& ctx) : context(ctx) {
-  check_formats(context);
+VulkanBackend::Impl::Impl(VulkanContext& ctx) : context(check_formats(ctx)) {
   indirect.reserve(2);
   std::memset(params.data(), 0, sizeof(gpu::FlowParams));
   pool = create_pool();
