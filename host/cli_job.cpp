@@ -1,28 +1,22 @@
 #include "cli_job.hpp"
-#include "cli.hpp"
 
-#include <unistd.h>
-
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "io/mesh_io.hpp"
-#include "io/mesh_stats.hpp"
-#include "preview/raster.hpp"
-#include "util/atomic_output.hpp"
-#include "util/error.hpp"
-#include "version.hpp"
+#include "cli.hpp"
 #include "cli_backend.hpp"
 #include "cli_progress.hpp"
 #include "pipeline/job.hpp"
 #include "scene/scene.hpp"
+#include "scenegen/scenegen.hpp"
+#include "util/atomic_output.hpp"
+#include "util/error.hpp"
 
 namespace fracref::cli {
 namespace fs = std::filesystem;
 namespace {
-
-const std::vector<std::string> kDemoScenes = {"bunny", "branch", "wall", "clay", "jello"};
 
 fs::path executable_dir() {
   std::error_code ec;
@@ -36,51 +30,20 @@ fs::path data_dir() {
   return executable_dir() / "data";
 }
 
-PreviewMesh exterior_preview(const MeshSoup& soup) {
-  PreviewMesh m;
-  m.positions = soup.positions;
-  m.triangles = soup.triangles;
-  m.triangle_colors.assign(soup.triangles.size(), glm::vec3(0.78f, 0.80f, 0.86f));
-  return m;
-}
-
-int run_exterior_only(const std::string& name, const fs::path& exterior, const JobCliOptions& o) {
-  MeshSoup soup = read_mesh(exterior);
-  MeshStats stats = mesh_stats(soup);
-  if (!stats.closed)
-    throw InputError(exterior.string() + ": the exterior surface is not closed (" +
-                     std::to_string(stats.boundary_edges) + " boundary edges, " +
-                     std::to_string(stats.non_manifold_edges) + " non-manifold edges)");
-  StagedDirectory out(o.output);
-  write_mesh(out.path() / "exterior.ply", soup);
-  write_png(out.path() / "preview.png", render_preview({exterior_preview(soup)}));
-  nlohmann::ordered_json report;
-  report["version"] = kVersion;
-  report["scene"] = name;
-  report["exterior"] = {{"file", exterior.string()}, {"vertices", stats.vertices}, {"faces", stats.faces}};
-  report["stages_run"] = {"load"};
-  write_file_atomic(out.path() / "report.json", report.dump(2) + "\n");
-  out.commit();
-  std::cerr << "fracref: loaded the exterior of '" << name << "' (" << stats.faces
-            << " triangles) into " << o.output << "; the refiner is not implemented yet\n";
-  return kExitOk;
-}
-
-}  // namespace
-
-/// Runs one scene into o.output through a staged folder, with a progress line on a terminal.
-static int run_scene(const Scene& scene, const JobCliOptions& o, const fs::path* extra_input) {
+/// Runs one scene into o.output through a staged folder, with a progress line on a terminal;
+/// `extra_input` (the generated inputs of a demo) is moved to OUT/input when the run succeeds.
+int run_scene(const Scene& scene, const JobCliOptions& o, const fs::path* extra_input) {
   JobOptions jo;
   jo.stop_after = parse_stage(o.stop_after);
   jo.seed = o.seed;
   if (o.preview_frames > 0) jo.preview_frames = o.preview_frames;
   std::unique_ptr<ComputeBackend> backend = make_backend(o.backend, o.quiet);
   StagedDirectory out(o.output);
-  if (extra_input) fs::rename(*extra_input, out.path() / "input");
   ProgressLine line(!o.quiet && stderr_is_terminal());
   jo.progress = [&](const std::string& stage, double f, const std::string& d) { line.update(stage, f, d); };
   nlohmann::ordered_json report = run_job(scene, out.path(), *backend, jo);
   line.done();
+  if (extra_input) fs::rename(*extra_input, out.path() / "input");
   out.commit();
   if (!o.quiet) {
     std::cerr << "fracref: " << scene.name << ": ";
@@ -91,6 +54,8 @@ static int run_scene(const Scene& scene, const JobCliOptions& o, const fs::path*
   return kExitOk;
 }
 
+}  // namespace
+
 int run_refine(const JobCliOptions& o) {
   Scene scene = load_scene(o.scene);
   return run_scene(scene, o, nullptr);
@@ -98,21 +63,30 @@ int run_refine(const JobCliOptions& o) {
 
 int run_demo(const JobCliOptions& o) {
   if (o.list) {
-    for (const auto& n : kDemoScenes) std::cout << n << "\n";
+    for (const auto& n : demo_scene_names()) std::cout << n << "\n";
     return kExitOk;
   }
   if (o.scene.empty()) throw InputError("demo: a scene name is required (fracref demo --list shows them)");
-  if (std::find(kDemoScenes.begin(), kDemoScenes.end(), o.scene) == kDemoScenes.end())
+  const std::vector<std::string> names = demo_scene_names();
+  if (std::find(names.begin(), names.end(), o.scene) == names.end())
     throw InputError("demo: unknown scene '" + o.scene + "' (available: bunny, branch, wall, clay, jello)");
   if (o.output.empty()) throw InputError("demo: -o/--output is required");
-  if (o.scene != "bunny") {
-    std::cerr << "fracref: demo '" << o.scene << "' is not implemented yet in this version\n";
-    return kExitFailure;
-  }
-  fs::path bunny = data_dir() / "bunny.obj";
-  if (!fs::exists(bunny))
-    throw InputError(bunny.string() + ": the bunny is missing; run 'bash .ci/setup build' (it fetches npm bunny@1.0.1)");
-  return run_exterior_only(o.scene, bunny, o);
+  DemoOptions demo;
+  demo.bunny_obj = data_dir() / "bunny.obj";
+  if (o.scene == "bunny" && !fs::exists(demo.bunny_obj))
+    throw InputError(demo.bunny_obj.string() +
+                     ": the bunny is missing; run 'bash .ci/setup build' (it fetches npm bunny@1.0.1)");
+  // The generated inputs are real files in the user formats; they travel with the output
+  // (OUT/input/) so the run can be repeated with `fracref refine OUT/input/NAME.json`.
+  fs::path input = fs::path(o.output).parent_path() / (fs::path(o.output).filename().string() + ".input-tmp");
+  fs::remove_all(input);
+  struct Cleanup {
+    fs::path p;
+    ~Cleanup() { std::error_code ec; fs::remove_all(p, ec); }
+  } cleanup{input};
+  fs::path scene_file = generate_demo_scene(o.scene, input, demo);
+  Scene scene = load_scene(scene_file);
+  return run_scene(scene, o, &input);
 }
 
 }  // namespace fracref::cli

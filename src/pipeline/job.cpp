@@ -10,6 +10,7 @@
 #include "pipeline/job_outputs.hpp"
 #include "pipeline/material.hpp"
 #include "pipeline/strength.hpp"
+#include "pieces/pieces.hpp"
 #include "refine/refine.hpp"
 #include "util/atomic_output.hpp"
 #include "util/error.hpp"
@@ -132,9 +133,22 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   report.refined(model.surface, s, refined, field.zeta);
   write_surface_ply(out / "fracture_surface.ply", s, &refined.tree);
   write_mesh(out / "exterior.ply", exterior_mesh);
-  if (o.stop_after != Stage::refine)
-    report.note("the pieces and animate stages are not implemented yet in this version; stopped after refine");
-  return report.finish(out, seconds_since(t0), [&] { return preview_surface(s, exterior_mesh); });
+  if (o.stop_after == Stage::refine)
+    return report.finish(out, seconds_since(t0), [&] { return preview_surface(s, exterior_mesh); });
+  progress("pieces", 0.0, "cutting the exterior");
+  const auto t_pieces = Clock::now();
+  PieceSet pieces = build_pieces(s, exterior_mesh);
+  PieceReport checked = check_pieces(pieces, exterior_mesh);
+  report.pieces(pieces, checked);
+  require_valid_pieces(checked);
+  PieceWriteOptions wo;
+  wo.ply = scene.output.ply;
+  wo.obj = scene.output.obj;
+  write_pieces(pieces, out, wo);
+  report.seconds("pieces", seconds_since(t_pieces));
+  if (o.stop_after != Stage::pieces)
+    report.note("the animate stage is not implemented yet in this version; stopped after pieces");
+  return report.finish(out, seconds_since(t0), [&] { return preview_pieces(pieces); });
 }
 
 }  // namespace fracref

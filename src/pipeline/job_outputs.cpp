@@ -1,5 +1,7 @@
 #include "pipeline/job_outputs.hpp"
 
+#include <limits>
+
 #include "field/field_sampler.hpp"
 #include "io/mesh_io.hpp"
 #include "util/atomic_output.hpp"
@@ -35,6 +37,22 @@ void JobReport::refined(const FractureSurface& coarse, const FractureSurface& re
                    {"dt", st.dt}});
   j_["iterations"] = its;
   j_["mean_strength"] = {{"coarse", mean_strength(coarse, zeta)}, {"refined", mean_strength(refined, zeta)}};
+}
+
+void JobReport::pieces(const PieceSet& pieces, const PieceReport& checked) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (std::size_t p = 0; p < checked.pieces.size(); ++p) {
+    const PieceCheck& c = checked.pieces[p];
+    list.push_back({{"piece", p}, {"triangles", c.triangles}, {"fracture_triangles", c.inside_triangles},
+                    {"volume", c.volume}, {"closed", c.closed()}, {"edge_manifold", c.edge_manifold()},
+                    {"outward", c.outward()}, {"self_intersections", c.self_intersections}});
+  }
+  j_["piece_meshes"] = list;
+  j_["partition"] = {{"exterior_volume", checked.exterior_volume}, {"volume_sum", checked.volume_sum},
+                     {"volume_relative_error", checked.volume_relative_error},
+                     {"points_tested", checked.points_tested}, {"points_in_no_piece", checked.points_in_no_piece},
+                     {"points_in_several_pieces", checked.points_in_several_pieces}};
+  j_["pieces_ok"] = checked.ok();
 }
 
 void JobReport::seconds(const std::string& key, double value) { j_["seconds"][key] = value; }
@@ -85,6 +103,7 @@ double mean_strength(const FractureSurface& s, const Grid3& zeta) {
   return area > 0.0 ? acc / area : 0.0;
 }
 
+
 namespace {
 
 glm::vec3 piece_color(int piece) {
@@ -95,6 +114,31 @@ glm::vec3 piece_color(int piece) {
 }
 
 }  // namespace
+
+Image preview_pieces(const PieceSet& set) {
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  for (const glm::dvec3& p : set.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const glm::dvec3 centre = 0.5 * (lo + hi);
+  const double explode = 0.12;
+  std::vector<PreviewMesh> meshes;
+  for (std::size_t p = 0; p < set.pieces.size(); ++p) {
+    const PieceSet::Piece& piece = set.pieces[p];
+    glm::dvec3 c(0.0);
+    for (const auto& t : piece.triangles) c += (set.positions[t[0]] + set.positions[t[1]] + set.positions[t[2]]) / 3.0;
+    if (!piece.triangles.empty()) c /= double(piece.triangles.size());
+    const glm::dvec3 shift = explode * (c - centre);
+    PreviewMesh m;
+    for (std::size_t f = 0; f < piece.triangles.size(); ++f) {
+      std::uint32_t base = std::uint32_t(m.positions.size());
+      for (int k = 0; k < 3; ++k) m.positions.push_back(set.positions[piece.triangles[f][k]] + shift);
+      m.triangles.push_back({base, base + 1, base + 2});
+      m.triangle_colors.push_back(piece.inside[f] ? piece_color(int(p)) : glm::vec3(0.86f, 0.86f, 0.88f));
+    }
+    meshes.push_back(std::move(m));
+  }
+  RenderOptions ro;
+  return render_preview(meshes, ro);
+}
 
 Image preview_surface(const FractureSurface& s, const MeshSoup& exterior) {
   PreviewMesh fracture;

@@ -11,6 +11,7 @@
 #include "coarse/coarse_model.hpp"
 #include "field/grid.hpp"
 #include "io/mesh_soup.hpp"
+#include "pieces/pieces.hpp"
 #include "preview/raster.hpp"
 #include "refine/refine.hpp"
 #include "scene/scene.hpp"
@@ -24,6 +25,7 @@ class JobReport {
   void coarse(const CoarseModel& model, const CoarseAnimation& animation);
   void refined(const FractureSurface& coarse, const FractureSurface& refined, const RefineResult& result,
                const Grid3& zeta);
+  void pieces(const PieceSet& pieces, const PieceReport& checked);
   void seconds(const std::string& key, double value);
   void note(const std::string& text);
   /// Renders the preview (when the scene asks for one), writes report.json, returns the report.
@@ -41,6 +43,9 @@ void write_surface_ply(const std::filesystem::path& path, const FractureSurface&
 
 /// Area-weighted mean of ζ over S (ζ trilinear at the corners, averaged per face).
 double mean_strength(const FractureSurface& s, const Grid3& zeta);
+
+/// The pieces slightly exploded, fracture faces in their piece's colour, exterior faces light.
+Image preview_pieces(const PieceSet& pieces);
 
 /// Two views side by side: the fracture surface coloured by piece, and the exterior.
 Image preview_surface(const FractureSurface& s, const MeshSoup& exterior);
