@@ -147,6 +147,74 @@ TEST(PiecesCurved, IcosphereCutByWavySheet) {
   }
 }
 
+// Non-convex exteriors. A torus cut by a plane containing its axis (two disks in one surface)
+// gives two C-shaped halves; the plane is tilted so that it meets the mesh's grid obliquely.
+TEST(PiecesNonConvex, TorusCutInHalves) {
+  const MeshSoup b = torus(1.0, 0.4, 32, 12);
+  const Bvh bvh = build_bvh(b.positions, b.triangles);
+  const glm::dvec3 n(0.05, 1.0, 0.1);
+  const FractureSurface s = combine_sheets({disk_sheet(bvh, {1.0, -0.05, 0.0}, n, 0.03, 3, 20, 0.4, 0.8),
+                                            disk_sheet(bvh, {-1.0, 0.05, 0.0}, n, 0.03, 3, 20, 1.1, 0.8)},
+                                           2);
+  const PieceSet set = build_pieces(s, b);
+  ASSERT_EQ(set.pieces.size(), 2u);
+  const PieceReport report = expect_valid_pieces(set, b);
+  EXPECT_GT(report.pieces[0].volume, 0.3 * report.exterior_volume);
+  EXPECT_GT(report.pieces[1].volume, 0.3 * report.exterior_volume);
+}
+
+// An L-shaped prism (voxels of size 0.5) cut by an oblique plane: the boundary of S crosses the
+// concave crease of the L; a second cut across one arm makes three pieces.
+TEST(PiecesNonConvex, LShapedPrismCuts) {
+  std::set<std::array<int, 3>> cells;
+  for (int z = 0; z < 2; ++z)
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x)
+        if (x < 2 || y < 2) cells.insert({x, y, z});
+  const MeshSoup b = voxel_surface(cells, 0.5);
+  // Sheet over the L on a 0.25 lattice: z = 0.5 + 0.1 x - 0.07 y.
+  SheetArrays sheet;
+  std::map<std::pair<int, int>, std::uint32_t> ids;
+  auto vertex = [&](int i, int j) {
+    auto [it, inserted] = ids.try_emplace({i, j}, std::uint32_t(sheet.positions.size()));
+    const double x = 0.25 * i, y = 0.25 * j;
+    if (inserted) sheet.positions.emplace_back(float(x), float(y), float(0.5 + 0.1 * x - 0.07 * y), 1.0f);
+    return it->second;
+  };
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 8; ++i) {
+      if (i >= 4 && j >= 4) continue;
+      const std::uint32_t a = vertex(i, j), c = vertex(i + 1, j + 1);
+      sheet.faces.emplace_back(a, vertex(i + 1, j), c, 0);
+      sheet.faces.emplace_back(a, c, vertex(i, j + 1), 0);
+    }
+  sheet.pieces.assign(sheet.faces.size(), glm::ivec2(1, 0));
+  const PieceSet two = build_pieces(combine_sheets({sheet}, 2), b);
+  expect_valid_pieces(two, b);
+  // Both arms cut off across (planes y = 1.6 and x = 1.6): three pieces, exact volumes.
+  SheetArrays top, right;
+  for (int k = 0; k <= 4; ++k)
+    for (int i = 0; i <= 4; ++i) {
+      top.positions.emplace_back(0.25f * float(i), 1.6f, 0.25f * float(k), 1.0f);
+      right.positions.emplace_back(1.6f, 0.25f * float(i), 0.25f * float(k), 1.0f);
+    }
+  for (int k = 0; k < 4; ++k)
+    for (int i = 0; i < 4; ++i) {
+      const std::uint32_t a = std::uint32_t(k * 5 + i);
+      top.faces.emplace_back(a, a + 6, a + 1, 0);  // normal +y, into the top arm's tip
+      top.faces.emplace_back(a, a + 5, a + 6, 0);
+      right.faces.emplace_back(a, a + 1, a + 6, 0);  // normal +x, into the right arm's tip
+      right.faces.emplace_back(a, a + 6, a + 5, 0);
+    }
+  top.pieces.assign(top.faces.size(), glm::ivec2(1, 0));
+  right.pieces.assign(right.faces.size(), glm::ivec2(2, 0));
+  const PieceSet three = build_pieces(combine_sheets({top, right}, 3), b);
+  expect_valid_pieces(three, b);
+  EXPECT_NEAR(piece_volume(three, 1), 1.0 * (2.0 - double(1.6f)), 1e-12);
+  EXPECT_NEAR(piece_volume(three, 2), 1.0 * (2.0 - double(1.6f)), 1e-12);
+  EXPECT_NEAR(piece_volume(three, 0), 3.0 - 2.0 * (2.0 - double(1.6f)), 1e-12);
+}
+
 TEST(PiecesDeterminism, SameInputSameOutput) {
   const MeshSoup b = icosphere(2);
   const FractureSurface s = wavy_disk(b, 3, 20);

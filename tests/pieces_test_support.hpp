@@ -76,6 +76,117 @@ inline FractureSurface grid_sheet(int n, const std::function<glm::dvec3(int, int
   return make_fracture_surface(std::move(positions), std::move(faces), std::move(pieces), 2);
 }
 
+/// Flat arrays of a fracture sheet, to be combined into one surface.
+struct SheetArrays {
+  std::vector<glm::vec4> positions;
+  std::vector<glm::uvec4> faces;
+  std::vector<glm::ivec2> pieces;
+};
+
+/// A polar-grid disk in the plane through `centre` with normal `n` (front piece on the normal's
+/// side), waved by `amplitude` along n; its rim lies where B is, found by bisection along each
+/// direction up to `max_radius` (the section must be star-shaped from the centre), and the rim
+/// vertices are projected onto B by closest point and rounded to float, as the refiner does.
+inline SheetArrays disk_sheet(const Bvh& bvh, glm::dvec3 centre, glm::dvec3 n, double amplitude, int rings,
+                              int segments, double phase, double max_radius = 4.0, glm::ivec2 pieces = {1, 0}) {
+  n = glm::normalize(n);
+  const glm::dvec3 u = glm::normalize(glm::cross(n, std::abs(n.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+  const glm::dvec3 v = glm::cross(n, u);
+  auto rim = [&](double a) {
+    const glm::dvec3 d = std::cos(a) * u + std::sin(a) * v;
+    double lo = 0.0, hi = max_radius;
+    for (int i = 0; i < 60; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (point_in_mesh(bvh, centre + mid * d) ? lo : hi) = mid;
+    }
+    return lo;
+  };
+  auto wave = [&](double x, double y) { return amplitude * std::sin(3.0 * x + phase) * std::cos(2.0 * y - phase); };
+  SheetArrays out;
+  out.positions.emplace_back(glm::vec3(centre + wave(0, 0) * n), 1.0f);
+  for (int r = 1; r <= rings; ++r)
+    for (int k = 0; k < segments; ++k) {
+      const double a = 2.0 * 3.14159265358979 * k / segments + 0.37 * phase;
+      const double radius = rim(a) * double(r) / rings;
+      const double x = radius * std::cos(a), y = radius * std::sin(a);
+      glm::dvec3 p = centre + x * u + y * v + wave(x, y) * n * (r == rings ? 0.3 : 1.0);
+      if (r == rings) p = closest_point(bvh, p).point;
+      out.positions.emplace_back(glm::vec3(p), 1.0f);
+    }
+  auto id = [segments](int r, int k) { return std::uint32_t(1 + (r - 1) * segments + (k % segments)); };
+  for (int k = 0; k < segments; ++k) out.faces.emplace_back(0, id(1, k), id(1, k + 1), 0);
+  for (int r = 1; r < rings; ++r)
+    for (int k = 0; k < segments; ++k) {
+      out.faces.emplace_back(id(r, k), id(r + 1, k), id(r + 1, k + 1), 0);
+      out.faces.emplace_back(id(r, k), id(r + 1, k + 1), id(r, k + 1), 0);
+    }
+  out.pieces.assign(out.faces.size(), pieces);
+  return out;
+}
+
+/// One fracture surface from several sheets (their vertices kept apart).
+inline FractureSurface combine_sheets(const std::vector<SheetArrays>& sheets, int piece_count) {
+  SheetArrays all;
+  for (const SheetArrays& s : sheets) {
+    const std::uint32_t base = std::uint32_t(all.positions.size());
+    all.positions.insert(all.positions.end(), s.positions.begin(), s.positions.end());
+    for (glm::uvec4 f : s.faces) all.faces.emplace_back(f.x + base, f.y + base, f.z + base, 0);
+    all.pieces.insert(all.pieces.end(), s.pieces.begin(), s.pieces.end());
+  }
+  return make_fracture_surface(std::move(all.positions), std::move(all.faces), std::move(all.pieces), piece_count);
+}
+
+/// A torus around the z axis (major radius R, tube radius r), nu x nv quads, outward.
+inline MeshSoup torus(double R, double r, int nu, int nv) {
+  TriangleSoup t;
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double u = 2.0 * 3.14159265358979 * i / nu, v = 2.0 * 3.14159265358979 * j / nv;
+      t.positions.emplace_back((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v));
+    }
+  auto id = [&](int i, int j) { return std::uint32_t(((i + nu) % nu) * nv + (j + nv) % nv); };
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      t.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      t.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return to_soup(t);
+}
+
+/// The closed surface of a set of unit voxels (faces between a filled and an empty cell, two
+/// triangles each, outward). \pre no two filled voxels touch along an edge only.
+inline MeshSoup voxel_surface(const std::set<std::array<int, 3>>& cells, double size) {
+  TriangleSoup t;
+  std::map<std::array<int, 3>, std::uint32_t> ids;
+  auto vertex = [&](std::array<int, 3> p) {
+    auto [it, inserted] = ids.try_emplace(p, std::uint32_t(t.positions.size()));
+    if (inserted) t.positions.emplace_back(size * p[0], size * p[1], size * p[2]);
+    return it->second;
+  };
+  for (const auto& c : cells)
+    for (int axis = 0; axis < 3; ++axis)
+      for (int dir : {-1, 1}) {
+        std::array<int, 3> n = c;
+        n[axis] += dir;
+        if (cells.count(n)) continue;
+        const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+        std::array<int, 3> base = c;
+        if (dir > 0) base[axis] += 1;
+        std::array<std::array<int, 3>, 4> q;
+        for (int k = 0; k < 4; ++k) {
+          q[k] = base;
+          q[k][a1] += (k == 1 || k == 2);
+          q[k][a2] += (k >= 2);
+        }
+        // q0 q1 q2 q3 runs counterclockwise around +axis; reverse for the -axis side.
+        std::array<std::uint32_t, 4> v{vertex(q[0]), vertex(q[1]), vertex(q[2]), vertex(q[3])};
+        if (dir < 0) std::swap(v[1], v[3]);
+        t.triangles.push_back({v[0], v[1], v[2]});
+        t.triangles.push_back({v[0], v[2], v[3]});
+      }
+  return to_soup(t);
+}
+
 inline double volume(const std::vector<glm::dvec3>& positions, const std::vector<std::array<std::uint32_t, 3>>& tris) {
   double sum = 0.0;
   for (const auto& t : tris) sum += glm::dot(positions[t[0]], glm::cross(positions[t[1]], positions[t[2]]));

@@ -93,7 +93,12 @@ std::vector<std::array<std::uint32_t, 3>> triangulate_fracture_polygon(const std
                                                                        const std::vector<unsigned>& side_mask,
                                                                        const glm::dvec3& normal) {
   if (polygon.size() == 3) return {{0, 1, 2}};
-  EarClipper clipper(polygon, side_mask, normal);
+  // The polygon follows B and is not planar: project along its vector area (Newell's normal),
+  // which sees a path bending around a crease of B better than the plane of the corners does.
+  glm::dvec3 area(0.0);
+  for (std::size_t i = 0; i < polygon.size(); ++i) area += glm::cross(polygon[i], polygon[(i + 1) % polygon.size()]);
+  if (!(glm::dot(area, normal) > 0.0)) throw RunError("the traced boundary folds over the face");
+  EarClipper clipper(polygon, side_mask, area);
   // One cut side: the fan from the corner off that side is the only allowed triangulation.
   unsigned cut_sides = 0;
   for (unsigned m : side_mask)

@@ -97,7 +97,8 @@ std::vector<std::array<std::uint32_t, 3>> triangulate_cut_triangle(const CutTria
 
 /// Triangulates a fracture face whose sides carry trace points. `polygon` lists 3D points in
 /// the face's winding; `side_mask` per point: bit k when it lies on side k (a corner on two).
-/// No triangle has all three points on one side. Returns indices into polygon in its winding.
+/// No triangle has all three points on one side. The polygon is projected along its vector
+/// area, which must agree with `normal` (the face's). Returns indices into polygon in its winding.
 /// \throw RunError with the reason (the caller names the S face).
 std::vector<std::array<std::uint32_t, 3>> triangulate_fracture_polygon(const std::vector<glm::dvec3>& polygon,
                                                                        const std::vector<unsigned>& side_mask,
