@@ -1,0 +1,116 @@
+// `fracref refine` as a user runs it: a small two-piece cube scene end to end on the CPU backend
+// (with no Vulkan driver visible), bad scenes refused with the key named, and output folders
+// that are either complete or untouched.
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "cli_support.hpp"
+
+using cli_test::run;
+using cli_test::slurp;
+using cli_test::TempDir;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// A unit cube of n^3 cells, 6 tets each, labelled 0 below z = 0.5 and 1 above (MEDIT).
+std::string cube_mesh(int n) {
+  std::ostringstream v, t;
+  auto id = [n](int i, int j, int k) { return 1 + i + (n + 1) * (j + (n + 1) * k); };
+  int nv = 0, nt = 0;
+  for (int k = 0; k <= n; ++k)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i, ++nv) v << double(i) / n << " " << double(j) / n << " " << double(k) / n << " 0\n";
+  const int pairs[6][2] = {{1, 3}, {3, 2}, {2, 6}, {6, 4}, {4, 5}, {5, 1}};
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        for (auto& p : pairs) {
+          auto c = [&](int q) { return id(i + (q & 1), j + ((q >> 1) & 1), k + ((q >> 2) & 1)); };
+          t << c(0) << " " << c(p[0]) << " " << c(p[1]) << " " << c(7) << " " << (2 * k < n ? 0 : 1) << "\n";
+          ++nt;
+        }
+  return "MeshVersionFormatted 2\nDimension 3\nVertices\n" + std::to_string(nv) + "\n" + v.str() + "Tetrahedra\n" +
+         std::to_string(nt) + "\n" + t.str() + "End\n";
+}
+
+const char* kCube =
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n"
+    "f 1 3 2\nf 2 3 4\nf 5 6 7\nf 6 8 7\nf 1 2 5\nf 2 6 5\nf 3 7 4\nf 4 7 8\nf 1 5 3\nf 3 5 7\nf 2 4 6\nf 4 8 6\n";
+
+std::string scene(const std::string& extra) {
+  return R"({"exterior": "cube.obj", "fracture": {"kind": "tets", "mesh": "cube.mesh"},
+             "field": {"type": "marble", "resolution": [16, 16, 16]},
+             "refine": {"max_iterations": 4, "max_triangles": 2000})" + extra + "}";
+}
+
+}  // namespace
+
+TEST(CliRefine, SmallSceneRunsOnTheCpuBackendWithoutVulkan) {
+  TempDir t;
+  t.write("cube.obj", kCube);
+  t.write("cube.mesh", cube_mesh(2));
+  auto s = t.write("scene.json", scene(""));
+  fs::path out = t.path / "out";
+  auto r = run("refine " + s.string() + " -o " + out.string() + " --backend cpu --stop-after refine",
+               "VK_ICD_FILENAMES=/nonexistent VK_DRIVER_FILES=/nonexistent");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* f : {"report.json", "fracture_surface.ply", "coarse_surface.ply", "exterior.ply", "preview.png"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  std::string report = slurp(out / "report.json");
+  EXPECT_NE(report.find("\"backend\": \"cpu\""), std::string::npos);
+  EXPECT_NE(report.find("\"coarse_triangles\": 8"), std::string::npos) << report;
+  EXPECT_NE(report.find("\"iterations\""), std::string::npos);
+  // Nothing is left beside the output folder.
+  for (auto& e : fs::directory_iterator(t.path)) EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos);
+}
+
+TEST(CliRefine, SameSeedSameBytes) {
+  TempDir t;
+  t.write("cube.obj", kCube);
+  t.write("cube.mesh", cube_mesh(2));
+  auto s = t.write("scene.json", scene(""));
+  for (const char* o : {"a", "b"})
+    ASSERT_EQ(run("refine " + s.string() + " -o " + (t.path / o).string() + " --backend cpu --stop-after refine -q").code, 0);
+  EXPECT_EQ(slurp(t.path / "a" / "fracture_surface.ply"), slurp(t.path / "b" / "fracture_surface.ply"));
+}
+
+TEST(CliRefine, BadSceneNamesTheKeyAndLeavesTheOutputAlone) {
+  TempDir t;
+  t.write("cube.obj", kCube);
+  t.write("cube.mesh", cube_mesh(2));
+  fs::path out = t.path / "out";
+  fs::create_directories(out);
+  t.write("out/previous.txt", "a previous complete run");
+  struct Case {
+    std::string extra, expect;
+  } cases[] = {{R"(, "refine2": {})", "refine2"},
+               {R"(, "weights": {"strength": -1})", "weights.strength"},
+               {R"(, "pyramid": {"levels": "five"})", "pyramid.levels"}};
+  for (const Case& c : cases) {
+    auto s = t.write("bad.json", scene(c.extra));
+    auto r = run("refine " + s.string() + " -o " + out.string() + " --backend cpu");
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("bad.json"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << r.err;
+  }
+  t.write("broken.mesh", "MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 0 nan 0\nEnd\n");
+  auto s = t.write("mesh.json", R"({"exterior": "cube.obj", "fracture": {"kind": "tets", "mesh": "broken.mesh"},
+                                    "field": {"type": "marble", "resolution": [8, 8, 8]}})");
+  auto r = run("refine " + s.string() + " -o " + out.string() + " --backend cpu");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("broken.mesh:5"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(out / "previous.txt"), "a previous complete run");
+  EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
+  for (auto& e : fs::directory_iterator(t.path)) EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos);
+}
+
+TEST(CliRefine, DemoListAndUnknownScene) {
+  auto r = run("demo --list");
+  EXPECT_EQ(r.code, 0);
+  for (const char* n : {"bunny", "branch", "wall", "clay", "jello"}) EXPECT_NE(r.out.find(n), std::string::npos);
+  r = run("demo volcano -o /tmp/never");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("volcano"), std::string::npos);
+}
