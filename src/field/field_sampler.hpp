@@ -21,7 +21,10 @@ struct FieldGrid4 {
 /// base node x, ∇ψ(x) = (1/L) Σ_l g_l(x), where g_l is the central difference, with step equal to
 /// level l's cell h_l, of the trilinear interpolation of level l:
 ///   g_l(x)·e = (ψ_l(x + h_l e) − ψ_l(x − h_l e)) / (2 h_l),
-/// with points clamped into the level's box. ψ itself is level 0.
+/// with points clamped into the level's box. The value channel is the matching multi-scale field
+/// ψ̃(x) = (1/L) Σ_l ψ_l(x) (trilinear in each level), so that the energy the refiner measures,
+/// Σ A ψ̃̄, is the one whose gradient the flow follows: with level 0 alone the averaged gradient
+/// is not a descent direction of the measured energy and the flow stalls.
 /// \pre pyramid non-empty, level 0 dims all >= 2, levels as built by build_pyramid_cpu.
 FieldGrid4 precompute_field_gradient(const std::vector<Grid3>& pyramid);
 

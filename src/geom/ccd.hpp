@@ -21,6 +21,8 @@
 
 #include <glm/glm.hpp>
 
+#include "geom/bvh.hpp"
+
 namespace fracref {
 
 struct CcdOptions {
@@ -96,6 +98,30 @@ struct StepCcdOptions {
 std::vector<CcdPair> find_step_collisions(const std::vector<glm::dvec3>& x0, const std::vector<glm::dvec3>& x1,
                                           const std::vector<std::array<std::uint32_t, 3>>& triangles,
                                           const StepCcdOptions& options = {});
+
+/// A static mesh prepared once for repeated find_step_collisions_with_static calls: its used
+/// vertices, unique edges and the three box trees (grown by `min_distance`).
+struct StaticCcdMesh {
+  std::vector<glm::dvec3> positions;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::vector<std::array<std::uint32_t, 1>> vertices;
+  std::vector<std::array<std::uint32_t, 2>> edges;
+  Bvh vertex_tree, triangle_tree, edge_tree;
+  double min_distance = 0.0;
+};
+
+/// \throw InputError as find_step_collisions_with_static for the static mesh.
+StaticCcdMesh prepare_static_ccd_mesh(const std::vector<glm::dvec3>& positions,
+                                      const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                      double min_distance = 0.0, int threads = 2);
+
+/// find_step_collisions_with_static against a prepared static mesh (same result).
+/// \pre options.ccd.min_distance == prepared.min_distance.
+std::vector<CcdPair> find_step_collisions_with_static(const std::vector<glm::dvec3>& x0,
+                                                      const std::vector<glm::dvec3>& x1,
+                                                      const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                                      const StaticCcdMesh& prepared,
+                                                      const StepCcdOptions& options = {});
 
 /// All colliding pairs between a moving mesh (x0 -> x1, `triangles`) and a static mesh (for
 /// example the exterior surface): moving vertices against static triangles, static vertices

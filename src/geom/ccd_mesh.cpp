@@ -127,22 +127,47 @@ std::vector<CcdPair> find_step_collisions(const std::vector<dvec3>& x0, const st
   return out;
 }
 
+StaticCcdMesh prepare_static_ccd_mesh(const std::vector<dvec3>& positions, const Tris& triangles, double min_distance,
+                                      int threads) {
+  check_positions(positions, "static");
+  check_triangles(triangles, positions.size(), "static");
+  StaticCcdMesh m;
+  m.positions = positions;
+  m.triangles = triangles;
+  m.min_distance = min_distance;
+  const double grow = std::max(0.0, min_distance);
+  BvhOptions tree_options;
+  tree_options.threads = threads;
+  m.vertices = used_vertices(triangles, positions.size());
+  m.edges = unique_edges(triangles);
+  m.triangle_tree = build_bvh(swept_boxes(positions, positions, triangles, grow), tree_options);
+  m.vertex_tree = build_bvh(swept_boxes(positions, positions, m.vertices, grow), tree_options);
+  m.edge_tree = build_bvh(swept_boxes(positions, positions, m.edges, grow), tree_options);
+  return m;
+}
+
 std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& x0, const std::vector<dvec3>& x1,
                                                       const Tris& triangles, const std::vector<dvec3>& static_positions,
                                                       const Tris& static_triangles, const StepCcdOptions& options) {
+  const StaticCcdMesh prepared =
+      prepare_static_ccd_mesh(static_positions, static_triangles, options.ccd.min_distance, options.threads);
+  return find_step_collisions_with_static(x0, x1, triangles, prepared, options);
+}
+
+std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& x0, const std::vector<dvec3>& x1,
+                                                      const Tris& triangles, const StaticCcdMesh& m,
+                                                      const StepCcdOptions& options) {
   if (x0.size() != x1.size())
     throw InputError("step collisions: " + std::to_string(x0.size()) + " start positions but " +
                      std::to_string(x1.size()) + " end positions");
   check_positions(x0, "start");
   check_positions(x1, "end");
-  check_positions(static_positions, "static");
   check_triangles(triangles, x0.size(), "moving");
-  check_triangles(static_triangles, static_positions.size(), "static");
   const CcdOptions& ccd = options.ccd;
-  const double grow = std::max(0.0, ccd.min_distance);
   BvhOptions tree_options;
   tree_options.threads = options.threads;
-  const auto& s = static_positions;
+  const auto& s = m.positions;
+  const Tris& static_triangles = m.triangles;
   const std::vector<std::uint8_t>* ignored = options.ignored_vertices;
   if (ignored && ignored->size() != x0.size())
     throw InputError("step collisions: " + std::to_string(ignored->size()) + " ignored-vertex flags for " +
@@ -151,9 +176,8 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
   // Moving vertices against static triangles.
   const auto moving_vertices = used_vertices(triangles, x0.size());
   const Bvh moving_vertex_tree = build_bvh(swept_boxes(x0, x1, moving_vertices, 0.0), tree_options);
-  const Bvh static_tri_tree = build_bvh(swept_boxes(s, s, static_triangles, grow), tree_options);
   auto out = collect_overlaps<CcdPair>(
-      moving_vertex_tree, static_tri_tree, false, options.threads,
+      moving_vertex_tree, m.triangle_tree, false, options.threads,
       [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
         const std::uint32_t v = moving_vertices[k][0];
         const auto& tri = static_triangles[t];
@@ -162,13 +186,11 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
           found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
       });
   // Static vertices against moving triangles.
-  const auto static_vertices = used_vertices(static_triangles, s.size());
-  const Bvh static_vertex_tree = build_bvh(swept_boxes(s, s, static_vertices, grow), tree_options);
   const Bvh moving_tri_tree = build_bvh(swept_boxes(x0, x1, triangles, 0.0), tree_options);
   auto tv = collect_overlaps<CcdPair>(
-      static_vertex_tree, moving_tri_tree, false, options.threads,
+      m.vertex_tree, moving_tri_tree, false, options.threads,
       [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
-        const std::uint32_t v = static_vertices[k][0];
+        const std::uint32_t v = m.vertices[k][0];
         const auto& tri = triangles[t];
         if (skip(tri[0]) || skip(tri[1]) || skip(tri[2])) return;
         if (ccd_vertex_triangle(s[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], s[v], x1[tri[0]], x1[tri[1]], x1[tri[2]], ccd))
@@ -176,14 +198,12 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
       });
   // Moving edges against static edges.
   const auto edges = unique_edges(triangles);
-  const auto static_edges = unique_edges(static_triangles);
   const Bvh moving_edge_tree = build_bvh(swept_boxes(x0, x1, edges, 0.0), tree_options);
-  const Bvh static_edge_tree = build_bvh(swept_boxes(s, s, static_edges, grow), tree_options);
   auto ee = collect_overlaps<CcdPair>(
-      moving_edge_tree, static_edge_tree, false, options.threads,
+      moving_edge_tree, m.edge_tree, false, options.threads,
       [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
         const Edge& e = edges[i];
-        const Edge& f = static_edges[j];
+        const Edge& f = m.edges[j];
         if (skip(e[0]) || skip(e[1])) return;
         if (ccd_edge_edge(x0[e[0]], x0[e[1]], s[f[0]], s[f[1]], x1[e[0]], x1[e[1]], s[f[0]], s[f[1]], ccd))
           found.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});

@@ -61,7 +61,7 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
     std::vector<glm::dvec3> p1 = to_double(x1);
     std::vector<CcdPair> pairs = find_step_collisions(p0, p1, tris, opts);
     opts.ignored_vertices = &on_b;
-    std::vector<CcdPair> with_b = find_step_collisions_with_static(p0, p1, tris, b.bvh.positions, b.bvh.triangles, opts);
+    std::vector<CcdPair> with_b = find_step_collisions_with_static(p0, p1, tris, b.ccd, opts);
     opts.ignored_vertices = nullptr;
     if (pairs.empty() && with_b.empty()) break;
     const std::size_t before = stopped;

@@ -12,6 +12,7 @@ ExteriorSurface make_exterior(const MeshSoup& mesh, const std::string& what) {
                      " boundary edges, " + std::to_string(st.non_manifold_edges) + " non-manifold edges)");
   ExteriorSurface b;
   b.bvh = build_bvh(mesh.positions, mesh.triangles);
+  b.ccd = prepare_static_ccd_mesh(mesh.positions, mesh.triangles);
   b.bbox_min = st.bbox_min;
   b.bbox_max = st.bbox_max;
   return b;

@@ -6,12 +6,14 @@
 #include <glm/glm.hpp>
 
 #include "geom/bvh.hpp"
+#include "geom/ccd.hpp"
 #include "io/mesh_soup.hpp"
 
 namespace fracref {
 
 struct ExteriorSurface {
   Bvh bvh;                         ///< keeps B's positions and triangles
+  StaticCcdMesh ccd;               ///< B prepared once for continuous collision detection
   glm::dvec3 bbox_min{0.0}, bbox_max{0.0};
 
   double diagonal() const { return glm::length(bbox_max - bbox_min); }
