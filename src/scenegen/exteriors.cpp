@@ -1,4 +1,5 @@
 // Closed, outward exterior meshes of the analytic demo shapes.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -64,9 +65,7 @@ class BoxGrid {
     glm::dvec3 p;
     for (int a = 0; a < 3; ++a)
       p[a] = g[a] == cells_[a] ? hi_[a] : lo_[a] + (hi_[a] - lo_[a]) * double(g[a]) / double(cells_[a]);
-    if (rounding_ <= 0.0) return p;
-    const glm::dvec3 inner = glm::clamp(p, lo_ + rounding_, hi_ - rounding_);
-    return inner + rounding_ * glm::normalize(p - inner);
+    return rounding_ > 0.0 ? rounded_box_map(p, lo_, hi_, rounding_) : p;
   }
 
   static constexpr std::uint32_t kNone = 0xffffffffu;
@@ -77,6 +76,12 @@ class BoxGrid {
 };
 
 }  // namespace
+
+glm::dvec3 rounded_box_map(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi, double radius) {
+  const glm::dvec3 inner = glm::clamp(p, lo + radius, hi - radius), d = p - inner;
+  const double euclid = glm::length(d), chebyshev = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+  return euclid > 0.0 ? inner + d * (chebyshev / euclid) : p;
+}
 
 TriMesh make_box(const glm::dvec3& lo, const glm::dvec3& hi, const glm::ivec3& cells, double rounding) {
   BoxGrid grid(lo, hi, cells, rounding);

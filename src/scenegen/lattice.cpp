@@ -28,7 +28,9 @@ bool less3(const glm::uvec3& a, const glm::uvec3& b) {
   return a.z < b.z;
 }
 
-TetSet full_lattice(const LatticeSpec& spec) {
+}  // namespace
+
+TetSet box_lattice(const LatticeSpec& spec) {
   TetSet set;
   const glm::ivec3 n = spec.cells;
   const auto id = [&](int i, int j, int k) { return std::uint32_t(i + (n.x + 1) * (j + (n.y + 1) * k)); };
@@ -57,6 +59,8 @@ TetSet full_lattice(const LatticeSpec& spec) {
         }
   return set;
 }
+
+namespace {
 
 // The hull of the kept tets, wound outward.
 std::vector<glm::uvec3> kept_hull(const TetFaces& faces, const std::vector<std::uint8_t>& keep) {
@@ -121,28 +125,6 @@ TetSet compact(const TetSet& all, const std::vector<std::uint8_t>& keep) {
   for (std::uint32_t t = 0; t < all.tets.size(); ++t)
     if (keep[t]) out.tets.push_back({id[all.tets[t].x], id[all.tets[t].y], id[all.tets[t].z], id[all.tets[t].w]});
   return out;
-}
-
-// Moves hull vertices onto the exterior as far as their tets stay well shaped.
-void snap_hull(TetSet& set, const Bvh& exterior, double min_volume) {
-  const TetFaces faces = tet_faces(set);
-  const VertexTets vt = vertex_tets(set);
-  std::vector<std::uint32_t> hull_vertices;
-  for (const glm::uvec3& f : faces.hull) hull_vertices.insert(hull_vertices.end(), {f.x, f.y, f.z});
-  std::sort(hull_vertices.begin(), hull_vertices.end());
-  hull_vertices.erase(std::unique(hull_vertices.begin(), hull_vertices.end()), hull_vertices.end());
-  for (int pass = 0; pass < 2; ++pass)
-    for (const std::uint32_t v : hull_vertices) {
-      const glm::dvec3 start = set.positions[v], target = closest_point(exterior, start).point;
-      for (const double f : {1.0, 0.5, 0.25}) {
-        set.positions[v] = start + f * (target - start);
-        bool ok = true;
-        for (std::uint32_t i = vt.offsets[v]; i < vt.offsets[v + 1] && ok; ++i)
-          ok = tet_volume(set, vt.tets[i]) >= min_volume;
-        if (ok) break;
-        set.positions[v] = start;
-      }
-    }
 }
 
 }  // namespace
@@ -245,7 +227,7 @@ TetFaces tet_faces(const TetSet& set) {
 }
 
 TetSet lattice_tets(const TriMesh& exterior, const LatticeSpec& spec) {
-  const TetSet all = full_lattice(spec);
+  const TetSet all = box_lattice(spec);
   const TetFaces faces = tet_faces(all);
   const Bvh bvh = build_bvh(exterior.positions, exterior.triangles);
   std::vector<std::uint8_t> keep(all.tets.size(), 0);
@@ -256,9 +238,31 @@ TetSet lattice_tets(const TriMesh& exterior, const LatticeSpec& spec) {
   complete_defects(all, faces, keep);
   keep_largest_part(faces, keep);
   TetSet set = compact(all, keep);
-  const glm::dvec3 cell = (spec.hi - spec.lo) / glm::dvec3(spec.cells);
-  snap_hull(set, bvh, 0.2 * cell.x * cell.y * cell.z / 6.0);
+  std::vector<std::uint32_t> hull_vertices;
+  for (const glm::uvec3& f : tet_faces(set).hull) hull_vertices.insert(hull_vertices.end(), {f.x, f.y, f.z});
+  std::sort(hull_vertices.begin(), hull_vertices.end());
+  hull_vertices.erase(std::unique(hull_vertices.begin(), hull_vertices.end()), hull_vertices.end());
+  for (int pass = 0; pass < 4; ++pass) snap_to_exterior(set, bvh, hull_vertices, 0.2 * lattice_tet_volume(spec));
   return set;
+}
+
+double lattice_tet_volume(const LatticeSpec& spec) {
+  const glm::dvec3 cell = (spec.hi - spec.lo) / glm::dvec3(spec.cells);
+  return cell.x * cell.y * cell.z / 6.0;
+}
+
+void snap_to_exterior(TetSet& set, const Bvh& exterior, const std::vector<std::uint32_t>& vertices, double min_volume) {
+  const VertexTets vt = vertex_tets(set);
+  for (const std::uint32_t v : vertices) {
+    const glm::dvec3 start = set.positions[v], target = closest_point(exterior, start).point;
+    for (const double f : {1.0, 0.75, 0.5, 0.25}) {
+      set.positions[v] = start + f * (target - start);
+      bool ok = true;
+      for (std::uint32_t i = vt.offsets[v]; i < vt.offsets[v + 1] && ok; ++i) ok = tet_volume(set, vt.tets[i]) >= min_volume;
+      if (ok) break;
+      set.positions[v] = start;
+    }
+  }
 }
 
 }  // namespace fracref::scenegen_detail

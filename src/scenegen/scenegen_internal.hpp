@@ -11,6 +11,8 @@
 
 #include <glm/glm.hpp>
 
+#include "geom/bvh.hpp"
+
 namespace fracref::scenegen_detail {
 
 /// splitmix64: a small seeded generator (no std distributions, so the output is the same on
@@ -47,9 +49,15 @@ struct TriMesh {
 /// bands along z, caps fanned around a centre vertex.
 TriMesh make_cylinder(double radius, double length, int segments, int rings);
 
+/// Maps the box [lo, hi] onto the rounded box of edge radius `radius` (the box shrunk by
+/// `radius`, grown back by a ball): a point's offset d from the shrunk box is rescaled to the
+/// Euclidean length its largest coordinate has, so the box's surface lands on the rounded
+/// surface, flat parts stay, and the inside follows continuously (a homeomorphism).
+/// \pre 2 radius < every extent of the box.
+glm::dvec3 rounded_box_map(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi, double radius);
+
 /// The surface of the box [lo, hi] with `cells` grid cells per axis on its faces, each cell two
-/// triangles. With `rounding` > 0 every point is pulled onto the rounded box of that edge radius
-/// (the box shrunk by `rounding`, grown back by a ball).
+/// triangles. With `rounding` > 0 every point is mapped by rounded_box_map.
 TriMesh make_box(const glm::dvec3& lo, const glm::dvec3& hi, const glm::ivec3& cells, double rounding = 0.0);
 
 /// Signed volume (positive for a closed outward mesh).
@@ -85,13 +93,32 @@ struct LatticeSpec {
   glm::ivec3 cells{1, 1, 1};
 };
 
+/// Every tet of the lattice (the box [lo, hi] filled), vertices in lattice order (x fastest).
+TetSet box_lattice(const LatticeSpec& spec);
+
+/// A capped cylinder about z, z in [-length/2, length/2], filled with tets: a disc of rings of
+/// `ring_counts` vertices (the first 1: the centre) at evenly spaced radii, extruded over
+/// `layers` layers, each prism split into 3 tets by vertex order (conforming). The outer ring's
+/// vertices are those of make_cylinder(radius, length, 2 * ring_counts.back(), ...) at even
+/// positions, bit for bit, so the hull is inscribed in that exterior and touches it at them.
+/// Vertices are numbered layer by layer (z ascending), disc order within a layer.
+TetSet cylinder_tets(double radius, double length, const std::vector<int>& ring_counts, int layers);
+
 /// The coarse tet mesh of a closed exterior: lattice tets whose centroid is inside, completed
 /// where the kept set would touch itself along an edge or at a vertex only, reduced to its
 /// largest face-connected part, vertices compacted (ascending lattice order); then every hull
 /// vertex is moved onto its closest point of the exterior as far as the tets around it keep at
-/// least a fifth of their lattice volume.
+/// least a fifth of their lattice volume (two passes, in vertex order).
 /// \throw RunError when no tet is kept.
 TetSet lattice_tets(const TriMesh& exterior, const LatticeSpec& spec);
+
+/// Volume of one lattice tet (a sixth of a cell).
+double lattice_tet_volume(const LatticeSpec& spec);
+
+/// Moves each of `vertices`, in order, onto its closest point of the mesh kept by `exterior`,
+/// or 3/4, 1/2 or 1/4 of the way there, the farthest that leaves every tet around it a volume of
+/// at least `min_volume`; else leaves it.
+void snap_to_exterior(TetSet& set, const Bvh& exterior, const std::vector<std::uint32_t>& vertices, double min_volume);
 
 /// Per vertex, the tets that use it (CSR).
 struct VertexTets {

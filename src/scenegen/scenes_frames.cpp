@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "scenegen/scenes.hpp"
+#include "util/error.hpp"
 
 namespace fracref::scenegen_detail {
 namespace {
@@ -48,9 +49,8 @@ glm::dvec3 bend(const glm::dvec3& x, double kappa) {
 Json make_branch(const SceneSetup& setup) {
   const TriMesh exterior = make_cylinder(1.0, 8.0, 32, 32);
   write_obj(setup.folder / "branch.obj", exterior, "tree branch: a capped cylinder, radius 1, length 8 along z");
-  TetSet set = lattice_tets(exterior, {{-1.0, -1.0, -4.0}, {1.0, 1.0, 4.0}, {6, 6, 24}});
-  for (glm::dvec3& p : set.positions)
-    if (std::abs(p.z) < 1e-9) p.z = 0.0;  // the lattice plane of the cut, exactly
+  // Rings of 1, 8, 14 and 16 vertices: the cross-section at z = 0 has the paper's 60 triangles.
+  TetSet set = cylinder_tets(1.0, 8.0, {1, 8, 14, 16}, 24);
   Rng rng(setup.seed ^ 0xb2a7c4ull);
   const double front = -0.2 - 0.2 * rng.uniform();            // the crack covers y > front
   const double open_angle = (10.0 + 4.0 * rng.uniform()) * kDegree;
@@ -107,11 +107,16 @@ Json make_branch(const SceneSetup& setup) {
 
 Json make_clay(const SceneSetup& setup) {
   const glm::dvec3 lo(-0.5, -1.0, -1.0), hi(0.5, 1.0, 1.0);
-  const TriMesh exterior = make_box(lo, hi, {20, 40, 40}, 0.25);
+  constexpr double kRounding = 0.25;
+  const TriMesh exterior = make_box(lo, hi, {20, 40, 40}, kRounding);
   write_obj(setup.folder / "clay.obj", exterior, "plastic clay: a rounded box 1 x 2 x 2 (edge radius 0.25)");
   Rng rng(setup.seed ^ 0xc1a7ull);
-  PieceLayout layout = piece_layout(exterior, {lo, hi, {5, 10, 10}}, {510, 6, 14, 8}, rng,
-                                    [](const glm::dvec3&) { return 1.0; });
+  // The box lattice mapped onto the rounded box as the exterior is: hull vertices are exterior vertices.
+  TetSet set = box_lattice({lo, hi, {5, 10, 10}});
+  for (glm::dvec3& p : set.positions) p = rounded_box_map(p, lo, hi, kRounding);
+  for (std::uint32_t t = 0; t < set.tets.size(); ++t)
+    if (!(tet_volume(set, t) > 0.0)) throw RunError("scenegen: clay: a mapped lattice tet is flat or inverted");
+  PieceLayout layout = piece_layout(std::move(set), {510, 6, 14, 8}, rng, [](const glm::dvec3&) { return 1.0; });
   // The bottom (y = -1) is held; the rest tears off late, top pieces first.
   const int main = piece_near(layout, {0.0, -1.0, 0.0});
   std::vector<int> order = others(layout.pieces, main);
@@ -157,7 +162,7 @@ Json make_jello(const SceneSetup& setup) {
   const TriMesh exterior = make_box(lo, hi, {40, 40, 20});
   write_obj(setup.folder / "jello.obj", exterior, "Jell-O block 2 x 2 x 1, z up");
   Rng rng(setup.seed ^ 0x7e110ull);
-  PieceLayout layout = piece_layout(exterior, {lo, hi, {10, 10, 5}}, {488, 5, 12, 8}, rng,
+  PieceLayout layout = piece_layout(box_lattice({lo, hi, {10, 10, 5}}), {488, 5, 12, 8}, rng,
                                     [](const glm::dvec3&) { return 1.0; });
   // Gradual fracture: the piece at the centre of the base stays; the others come off one by one.
   const int main = piece_near(layout, {0.0, 0.0, 0.0});

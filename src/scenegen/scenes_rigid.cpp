@@ -74,7 +74,10 @@ Json make_bunny(const SceneSetup& setup, const std::filesystem::path& bunny_obj)
   const double h = std::max({extent.x, extent.y, extent.z}) / 10.0;
   lattice.cells = glm::max(glm::ivec3(1), glm::ivec3(glm::ceil(extent / h - 1e-9)));
   Rng rng(setup.seed ^ 0xb0a4a11ce5ull);
-  PieceLayout layout = piece_layout(exterior, lattice, {256, 5, 10, 8}, rng, [](const glm::dvec3&) { return 1.0; });
+  PieceLayout layout = piece_layout(lattice_tets(exterior, lattice), {256, 5, 10, 8}, rng,
+                                    [](const glm::dvec3&) { return 1.0; });
+  snap_cut_rim(layout.set, tet_faces(layout.set), cut_faces(tet_faces(layout.set), layout.labels), exterior,
+               kRimVolume * lattice_tet_volume(lattice));
   give_pieces_own_vertices(layout);
   write_medit(setup.folder / "bunny_coarse.mesh", layout.set, layout.labels);
 
@@ -115,7 +118,7 @@ Json make_wall(const SceneSetup& setup) {
   const auto reach = [impact](const glm::dvec3& p) { return glm::length(glm::dvec2(p.x - impact.x, p.y - impact.y)); };
   Rng rng(setup.seed ^ 0x3a11b41150ull);
   // Small pieces near the impact, large ones far from it.
-  PieceLayout layout = piece_layout(exterior, lattice, {204, 8, 20, 6}, rng, [&reach](const glm::dvec3& p) {
+  PieceLayout layout = piece_layout(box_lattice(lattice), {204, 8, 20, 6}, rng, [&reach](const glm::dvec3& p) {
     return 0.3 + 0.7 * std::min(1.0, reach(p) / 1.2);
   });
   give_pieces_own_vertices(layout);
