@@ -24,9 +24,15 @@ void apply_boundary_constraint(const FractureSurface& s, const ExteriorSurface& 
 /// pairs sharing a vertex skipped) and resets the vertices of every colliding pair, repeating
 /// until the motion is collision-free (a reset vertex cannot cause a new collision with a
 /// collision-free neighbour, but it can expose one; after a few rounds every vertex of any pair
-/// found is reset). \pre x0 collision-free, x0.size() == x1.size() == s.positions.size().
+/// found is reset; a pair that was already in contact before the step, which holding vertices
+/// back cannot change, ends the rounds). `clearance`, when given, holds per vertex a lower bound
+/// of its distance to B at x0 (negative: unknown); it is resized to the vertex count (new entries
+/// unknown) and updated to bound the distance at x1, so the costly inside test runs only for
+/// vertices that may have reached B.
+/// \pre x0 collision-free, x0.size() == x1.size() == s.positions.size().
 /// \return the number of vertices reset.
 std::size_t apply_collision_constraints(const FractureSurface& s, const ExteriorSurface& exterior,
-                                        const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1);
+                                        const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1,
+                                        std::vector<float>* clearance = nullptr);
 
 }  // namespace fracref

@@ -52,6 +52,7 @@ class Refiner {
   RefineOptions o_;
   RefinementTree tree_;
   std::vector<glm::vec4> samples_, velocity_;
+  std::vector<float> clearance_;  // per vertex, a lower bound of the distance to B (< 0: unknown)
 };
 
 void Refiner::evaluate() {
@@ -153,7 +154,7 @@ IterationStats Refiner::flow_step() {
     full[i] = glm::vec4(glm::vec3(x0[i]) + d, 1.0f);
   }
   apply_boundary_constraint(s_, b_, x0, full);
-  st.collisions_stopped = o_.collisions ? apply_collision_constraints(s_, b_, x0, full) : 0;
+  st.collisions_stopped = o_.collisions ? apply_collision_constraints(s_, b_, x0, full, &clearance_) : 0;
   // Backtracking shortens the constrained, collision-free motion: every vertex then follows the
   // first part of the same straight path, which is collision-free too (boundary vertices are
   // projected back onto B, a deviation of second order in the step).
@@ -313,7 +314,8 @@ void Refiner::drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::
   std::vector<glm::vec4> x0 = trial.positions, x1 = trial.positions;
   for (std::size_t k = 0; k < chosen.size(); ++k) x1[first_new + k] = glm::vec4(target[k], 1.0f);
   apply_boundary_constraint(trial, b_, x0, x1);
-  if (o_.collisions) apply_collision_constraints(trial, b_, x0, x1);
+  std::vector<float> clearance = clearance_;  // new vertices: unknown
+  if (o_.collisions) apply_collision_constraints(trial, b_, x0, x1, &clearance);
   std::size_t kept = 0;
   for (std::size_t k = 0; k < chosen.size(); ++k) {
     if (x1[first_new + k] != glm::vec4(target[k], 1.0f)) continue;  // held back: drop this split
