@@ -1,9 +1,8 @@
-// The coarse tetrahedral mesh of an exterior: a Kuhn lattice, kept by centroid, cleaned, snapped.
+// The Kuhn lattice and the faces, edges and incidences of tet sets.
 #include <algorithm>
 #include <numeric>
 #include <utility>
 
-#include "geom/bvh.hpp"
 #include "scenegen/scenegen_internal.hpp"
 #include "util/error.hpp"
 
@@ -59,75 +58,6 @@ TetSet box_lattice(const LatticeSpec& spec) {
         }
   return set;
 }
-
-namespace {
-
-// The hull of the kept tets, wound outward.
-std::vector<glm::uvec3> kept_hull(const TetFaces& faces, const std::vector<std::uint8_t>& keep) {
-  std::vector<glm::uvec3> hull;
-  for (std::size_t i = 0; i < faces.interior.size(); ++i) {
-    const bool a = keep[faces.interior_tets[i].x], b = keep[faces.interior_tets[i].y];
-    if (a && !b) hull.push_back(faces.interior[i]);
-    if (b && !a) hull.push_back({faces.interior[i].x, faces.interior[i].z, faces.interior[i].y});
-  }
-  for (std::size_t i = 0; i < faces.hull.size(); ++i)
-    if (keep[faces.hull_tet[i]]) hull.push_back(faces.hull[i]);
-  return hull;
-}
-
-// Keeps only the largest face-connected part of the kept tets (ties to the lowest tet).
-void keep_largest_part(const TetFaces& faces, std::vector<std::uint8_t>& keep) {
-  std::vector<std::uint32_t> root(keep.size());
-  std::iota(root.begin(), root.end(), 0u);
-  const auto find = [&root](std::uint32_t x) {
-    while (root[x] != x) x = root[x] = root[root[x]];
-    return x;
-  };
-  for (const glm::uvec2& t : faces.interior_tets)
-    if (keep[t.x] && keep[t.y]) {
-      const std::uint32_t a = find(t.x), b = find(t.y);
-      root[std::max(a, b)] = std::min(a, b);
-    }
-  std::vector<std::size_t> size(keep.size(), 0);
-  for (std::uint32_t t = 0; t < keep.size(); ++t)
-    if (keep[t]) ++size[find(t)];
-  const std::uint32_t best = std::uint32_t(std::max_element(size.begin(), size.end()) - size.begin());
-  for (std::uint32_t t = 0; t < keep.size(); ++t)
-    if (keep[t] && find(t) != best) keep[t] = 0;
-}
-
-// Adds every lattice tet around each defect until the kept set's hull is a 2-manifold.
-void complete_defects(const TetSet& all, const TetFaces& faces, std::vector<std::uint8_t>& keep) {
-  const VertexTets vt = vertex_tets(all);
-  for (int round = 0; round < 50; ++round) {
-    const auto bad = surface_defects(kept_hull(faces, keep));
-    if (bad.empty()) return;
-    for (const auto& [a, b] : bad)
-      for (std::uint32_t i = vt.offsets[a]; i < vt.offsets[a + 1]; ++i) {
-        const glm::uvec4& t = all.tets[vt.tets[i]];
-        if (t.x == b || t.y == b || t.z == b || t.w == b) keep[vt.tets[i]] = 1;
-      }
-  }
-  throw RunError("scenegen: the coarse lattice's hull did not become a 2-manifold");
-}
-
-TetSet compact(const TetSet& all, const std::vector<std::uint8_t>& keep) {
-  std::vector<std::uint32_t> id(all.positions.size(), 0xffffffffu);
-  TetSet out;
-  for (std::uint32_t t = 0; t < all.tets.size(); ++t)
-    if (keep[t])
-      for (int c = 0; c < 4; ++c) id[all.tets[t][c]] = 0;
-  for (std::uint32_t v = 0; v < all.positions.size(); ++v)
-    if (id[v] == 0) {
-      id[v] = std::uint32_t(out.positions.size());
-      out.positions.push_back(all.positions[v]);
-    }
-  for (std::uint32_t t = 0; t < all.tets.size(); ++t)
-    if (keep[t]) out.tets.push_back({id[all.tets[t].x], id[all.tets[t].y], id[all.tets[t].z], id[all.tets[t].w]});
-  return out;
-}
-
-}  // namespace
 
 glm::dvec3 tet_centroid(const TetSet& set, std::uint32_t t) {
   const glm::uvec4& k = set.tets[t];
@@ -226,43 +156,31 @@ TetFaces tet_faces(const TetSet& set) {
   return faces;
 }
 
-TetSet lattice_tets(const TriMesh& exterior, const LatticeSpec& spec) {
-  const TetSet all = box_lattice(spec);
-  const TetFaces faces = tet_faces(all);
-  const Bvh bvh = build_bvh(exterior.positions, exterior.triangles);
-  std::vector<std::uint8_t> keep(all.tets.size(), 0);
-  bool any = false;
-  for (std::uint32_t t = 0; t < all.tets.size(); ++t) any |= (keep[t] = point_in_mesh(bvh, tet_centroid(all, t)));
-  if (!any) throw RunError("scenegen: no lattice tet lies inside the exterior");
-  keep_largest_part(faces, keep);
-  complete_defects(all, faces, keep);
-  keep_largest_part(faces, keep);
-  TetSet set = compact(all, keep);
-  std::vector<std::uint32_t> hull_vertices;
-  for (const glm::uvec3& f : tet_faces(set).hull) hull_vertices.insert(hull_vertices.end(), {f.x, f.y, f.z});
-  std::sort(hull_vertices.begin(), hull_vertices.end());
-  hull_vertices.erase(std::unique(hull_vertices.begin(), hull_vertices.end()), hull_vertices.end());
-  for (int pass = 0; pass < 4; ++pass) snap_to_exterior(set, bvh, hull_vertices, 0.2 * lattice_tet_volume(spec));
-  return set;
-}
-
-double lattice_tet_volume(const LatticeSpec& spec) {
-  const glm::dvec3 cell = (spec.hi - spec.lo) / glm::dvec3(spec.cells);
-  return cell.x * cell.y * cell.z / 6.0;
-}
-
-void snap_to_exterior(TetSet& set, const Bvh& exterior, const std::vector<std::uint32_t>& vertices, double min_volume) {
-  const VertexTets vt = vertex_tets(set);
-  for (const std::uint32_t v : vertices) {
-    const glm::dvec3 start = set.positions[v], target = closest_point(exterior, start).point;
-    for (const double f : {1.0, 0.75, 0.5, 0.25}) {
-      set.positions[v] = start + f * (target - start);
-      bool ok = true;
-      for (std::uint32_t i = vt.offsets[v]; i < vt.offsets[v + 1] && ok; ++i) ok = tet_volume(set, vt.tets[i]) >= min_volume;
-      if (ok) break;
-      set.positions[v] = start;
-    }
+void keep_largest_part(TetSet& set) {
+  const TetFaces faces = tet_faces(set);
+  std::vector<std::uint32_t> root(set.tets.size());
+  std::iota(root.begin(), root.end(), 0u);
+  const auto find = [&root](std::uint32_t x) {
+    while (root[x] != x) x = root[x] = root[root[x]];
+    return x;
+  };
+  for (const glm::uvec2& t : faces.interior_tets) {
+    const std::uint32_t a = find(t.x), b = find(t.y);
+    root[std::max(a, b)] = std::min(a, b);
   }
+  std::vector<std::size_t> size(set.tets.size(), 0);
+  for (std::uint32_t t = 0; t < set.tets.size(); ++t) ++size[find(t)];
+  const std::uint32_t best = std::uint32_t(std::max_element(size.begin(), size.end()) - size.begin());
+  std::vector<std::uint32_t> id(set.positions.size(), 0xffffffffu);
+  TetSet out;
+  for (std::uint32_t t = 0; t < set.tets.size(); ++t)
+    if (find(t) == best)
+      for (int c = 0; c < 4; ++c) id[set.tets[t][c]] = 0;
+  for (std::uint32_t v = 0; v < set.positions.size(); ++v)
+    if (id[v] == 0) id[v] = std::uint32_t(out.positions.size()), out.positions.push_back(set.positions[v]);
+  for (std::uint32_t t = 0; t < set.tets.size(); ++t)
+    if (find(t) == best) out.tets.push_back({id[set.tets[t].x], id[set.tets[t].y], id[set.tets[t].z], id[set.tets[t].w]});
+  set = std::move(out);
 }
 
 }  // namespace fracref::scenegen_detail

@@ -31,27 +31,6 @@ Json scene_json(const SceneSetup& setup, const SceneText& text, const Json& anim
   return j;
 }
 
-void snap_cut_rim(TetSet& set, const TetFaces& faces, const std::vector<std::uint8_t>& cut, const TriMesh& exterior,
-                  double min_volume) {
-  std::vector<std::uint8_t> on_hull(set.positions.size(), 0);
-  for (const glm::uvec3& f : faces.hull) on_hull[f.x] = on_hull[f.y] = on_hull[f.z] = 1;
-  std::vector<std::uint32_t> rim;
-  for (std::size_t i = 0; i < faces.interior.size(); ++i)
-    if (cut[i])
-      for (int c = 0; c < 3; ++c)
-        if (on_hull[faces.interior[i][c]]) rim.push_back(faces.interior[i][c]);
-  std::sort(rim.begin(), rim.end());
-  rim.erase(std::unique(rim.begin(), rim.end()), rim.end());
-  const Bvh bvh = build_bvh(exterior.positions, exterior.triangles);
-  for (int pass = 0; pass < 4; ++pass) snap_to_exterior(set, bvh, rim, min_volume);
-}
-
-std::vector<std::uint8_t> cut_faces(const TetFaces& faces, const std::vector<int>& labels) {
-  std::vector<std::uint8_t> cut(faces.interior.size());
-  for (std::size_t i = 0; i < cut.size(); ++i) cut[i] = labels[faces.interior_tets[i].x] != labels[faces.interior_tets[i].y];
-  return cut;
-}
-
 PieceLayout piece_layout(TetSet set, const LayoutGoal& goal, Rng& rng,
                          const std::function<double(const glm::dvec3&)>& spacing) {
   PieceLayout out;

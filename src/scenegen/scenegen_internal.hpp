@@ -104,21 +104,19 @@ TetSet box_lattice(const LatticeSpec& spec);
 /// Vertices are numbered layer by layer (z ascending), disc order within a layer.
 TetSet cylinder_tets(double radius, double length, const std::vector<int>& ring_counts, int layers);
 
-/// The coarse tet mesh of a closed exterior: lattice tets whose centroid is inside, completed
-/// where the kept set would touch itself along an edge or at a vertex only, reduced to its
-/// largest face-connected part, vertices compacted (ascending lattice order); then every hull
-/// vertex is moved onto its closest point of the exterior as far as the tets around it keep at
-/// least a fifth of their lattice volume (two passes, in vertex order).
-/// \throw RunError when no tet is kept.
-TetSet lattice_tets(const TriMesh& exterior, const LatticeSpec& spec);
+/// The inside of a closed exterior as tets whose hull vertices lie on it: the lattice tets cut
+/// by the exterior (marching tetrahedra on the inside/outside sign of the lattice vertices, the
+/// crossing of each lattice edge found on the exterior), after warping each lattice vertex that
+/// has a crossing closer than `warp` times that edge's length onto the nearest one (isosurface
+/// stuffing, Labelle and Shewchuk 2007, on the Kuhn lattice). Cut prisms and pyramids are split
+/// by vertex ids, so the tets conform. Only the largest face-connected part is kept.
+/// \pre the lattice box contains the exterior with room.
+/// \throw RunError when no tet is inside, or the hull is not a 2-manifold.
+TetSet stuffed_tets(const TriMesh& exterior, const LatticeSpec& spec, double warp);
 
-/// Volume of one lattice tet (a sixth of a cell).
-double lattice_tet_volume(const LatticeSpec& spec);
-
-/// Moves each of `vertices`, in order, onto its closest point of the mesh kept by `exterior`,
-/// or 3/4, 1/2 or 1/4 of the way there, the farthest that leaves every tet around it a volume of
-/// at least `min_volume`; else leaves it.
-void snap_to_exterior(TetSet& set, const Bvh& exterior, const std::vector<std::uint32_t>& vertices, double min_volume);
+/// Keeps the largest face-connected part of the tets (ties to the one with the lowest tet),
+/// vertices compacted in their order.
+void keep_largest_part(TetSet& set);
 
 /// Per vertex, the tets that use it (CSR).
 struct VertexTets {

@@ -52,22 +52,10 @@ struct LayoutGoal {
   std::size_t min_tets = 8;
 };
 
-/// Smallest volume of a tet at the rim of a cut, as a fraction of a lattice tet's: the cut's
-/// vertices on the hull are pulled onto the exterior harder than the rest of the hull, since the
-/// fracture surface should end on the exterior.
-inline constexpr double kRimVolume = 0.02;
-
-/// Snaps the hull vertices of the `cut` interior faces onto `exterior` (snap_to_exterior, two
-/// passes) keeping every tet at `min_volume` or more.
-void snap_cut_rim(TetSet& set, const TetFaces& faces, const std::vector<std::uint8_t>& cut, const TriMesh& exterior,
-                  double min_volume);
-
 /// best_layout on `set` with sites spread by `spacing` (local piece size, 1 = uniform).
 PieceLayout piece_layout(TetSet set, const LayoutGoal& goal, Rng& rng,
                          const std::function<double(const glm::dvec3&)>& spacing);
 
-/// Per interior face of `faces`, 1 where the layout's labels differ.
-std::vector<std::uint8_t> cut_faces(const TetFaces& faces, const std::vector<int>& labels);
 
 /// The piece (label) whose tet centroid is nearest to `p`.
 int piece_near(const PieceLayout& layout, const glm::dvec3& p);

@@ -71,13 +71,14 @@ Json make_bunny(const SceneSetup& setup, const std::filesystem::path& bunny_obj)
     lattice.hi = glm::max(lattice.hi, p);
   }
   const glm::dvec3 extent = lattice.hi - lattice.lo;
+  // Cubes of a tenth of the longest side, one more on every side than the exterior needs.
   const double h = std::max({extent.x, extent.y, extent.z}) / 10.0;
-  lattice.cells = glm::max(glm::ivec3(1), glm::ivec3(glm::ceil(extent / h - 1e-9)));
+  lattice.cells = glm::ivec3(glm::ceil(extent / h - 1e-9)) + 2;
+  const glm::dvec3 middle = 0.5 * (lattice.lo + lattice.hi), half = 0.5 * h * glm::dvec3(lattice.cells);
+  lattice.lo = middle - half, lattice.hi = middle + half;
   Rng rng(setup.seed ^ 0xb0a4a11ce5ull);
-  PieceLayout layout = piece_layout(lattice_tets(exterior, lattice), {256, 5, 10, 8}, rng,
+  PieceLayout layout = piece_layout(stuffed_tets(exterior, lattice, 0.3), {256, 5, 10, 8}, rng,
                                     [](const glm::dvec3&) { return 1.0; });
-  snap_cut_rim(layout.set, tet_faces(layout.set), cut_faces(tet_faces(layout.set), layout.labels), exterior,
-               kRimVolume * lattice_tet_volume(lattice));
   give_pieces_own_vertices(layout);
   write_medit(setup.folder / "bunny_coarse.mesh", layout.set, layout.labels);
 
