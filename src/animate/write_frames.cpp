@@ -1,0 +1,139 @@
+// animate_pieces and the per-frame OBJ files.
+#include <algorithm>
+#include <charconv>
+#include <cstdio>
+#include <functional>
+
+#include "animate/animate.hpp"
+#include "util/atomic_output.hpp"
+#include "util/error.hpp"
+
+namespace fracref {
+namespace {
+
+using Tri = std::array<std::uint32_t, 3>;
+
+std::string numbered(const char* format, std::size_t n) {
+  char buffer[48];
+  std::snprintf(buffer, sizeof buffer, format, n);
+  return buffer;
+}
+
+void append_number(std::string& out, double value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  out.append(buffer, result.ptr);
+}
+
+// Per piece, its faces on 1-based file vertex ids: outside faces first, then inside ones (the
+// order of pieces/piece_NNN.obj), each with its inside flag.
+struct FrameFaces {
+  std::vector<std::vector<Tri>> faces;
+  std::vector<std::vector<std::uint8_t>> inside;
+};
+
+FrameFaces frame_faces(const PieceSet& pieces, const PieceLayout& layout) {
+  if (layout.vertices.size() != pieces.pieces.size())
+    throw RunError("write_frames: the animation has " + std::to_string(layout.vertices.size()) + " pieces, the piece set " +
+                   std::to_string(pieces.pieces.size()));
+  FrameFaces out;
+  for (std::size_t p = 0; p < pieces.pieces.size(); ++p) {
+    const PieceSet::Piece& piece = pieces.pieces[p];
+    const std::vector<std::uint32_t>& used = layout.vertices[p];
+    std::vector<Tri> faces;
+    std::vector<std::uint8_t> inside;
+    for (std::uint8_t group : {std::uint8_t(0), std::uint8_t(1)})
+      for (std::size_t t = 0; t < piece.triangles.size(); ++t) {
+        if (piece.inside[t] != group) continue;
+        Tri local;
+        for (int k = 0; k < 3; ++k) {
+          auto it = std::lower_bound(used.begin(), used.end(), piece.triangles[t][k]);
+          if (it == used.end() || *it != piece.triangles[t][k])
+            throw RunError("write_frames: piece " + std::to_string(p) + " uses a vertex the animation does not move");
+          local[k] = layout.offsets[p] + std::uint32_t(it - used.begin()) + 1;
+        }
+        faces.push_back(local);
+        inside.push_back(group);
+      }
+    out.faces.push_back(std::move(faces));
+    out.inside.push_back(std::move(inside));
+  }
+  return out;
+}
+
+std::string frame_text(const FrameFaces& f, const PieceLayout& layout, const std::vector<glm::dvec3>& x, std::size_t frame,
+                       std::size_t frame_count, double fps) {
+  std::string out = "# fracref frame " + std::to_string(frame) + " of " + std::to_string(frame_count) + ", fps ";
+  append_number(out, fps);
+  out += "\nmtllib frames.mtl\n";
+  for (std::size_t p = 0; p < f.faces.size(); ++p) {
+    out += "o " + numbered("piece_%03zu", p) + "\n";
+    for (std::uint32_t s = layout.offsets[p]; s < layout.offsets[p + 1]; ++s) {
+      out += "v ";
+      append_number(out, x[s].x);
+      out += ' ';
+      append_number(out, x[s].y);
+      out += ' ';
+      append_number(out, x[s].z);
+      out += '\n';
+    }
+    int material = -1;
+    for (std::size_t t = 0; t < f.faces[p].size(); ++t) {
+      if (f.inside[p][t] != material) {
+        material = f.inside[p][t];
+        out += material ? "usemtl inside\n" : "usemtl outside\n";
+      }
+      const Tri& tri = f.faces[p][t];
+      out += "f " + std::to_string(tri[0]) + ' ' + std::to_string(tri[1]) + ' ' + std::to_string(tri[2]) + '\n';
+    }
+  }
+  return out;
+}
+
+const char* material_text() {
+  return "# fracref frames: exterior (outside) and fracture (inside) faces\n"
+         "newmtl outside\nKa 0 0 0\nKd 0.8 0.8 0.8\nKs 0.1 0.1 0.1\nNs 20\nillum 2\n\n"
+         "newmtl inside\nKa 0 0 0\nKd 0.85 0.55 0.35\nKs 0.05 0.05 0.05\nNs 10\nillum 2\n";
+}
+
+void write_all(const PieceSet& pieces, const PieceLayout& layout, std::size_t frame_count, double fps,
+               const std::filesystem::path& out, const std::function<std::vector<glm::dvec3>(std::size_t)>& frame) {
+  const FrameFaces faces = frame_faces(pieces, layout);
+  const std::filesystem::path dir = out / "frames";
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw RunError(dir.string() + ": cannot create the folder: " + ec.message());
+  for (std::size_t t = 0; t < frame_count; ++t) {
+    const std::vector<glm::dvec3> x = frame(t);
+    if (x.size() != layout.slot_count())
+      throw RunError("write_frames: frame " + std::to_string(t) + " has " + std::to_string(x.size()) + " positions, expected " +
+                     std::to_string(layout.slot_count()));
+    write_file_atomic(dir / numbered("frame_%04zu.obj", t), frame_text(faces, layout, x, t, frame_count, fps));
+  }
+  write_file_atomic(dir / "frames.mtl", material_text());
+}
+
+}  // namespace
+
+AnimationResult animate_pieces(const CoarseModel& model, const CoarseAnimation& animation, const RefinementTree& tree,
+                               const PieceSet& pieces, const AnimateOptions& options) {
+  const AnimationTransfer transfer = build_transfer(model, animation, tree, pieces, options);
+  AnimationResult result;
+  result.layout = transfer.layout;
+  result.coarse_fracture_frame = transfer.coarse_fracture_frame;
+  result.fps = animation.fps;
+  for (std::size_t t = 0; t < transfer.frame_count; ++t) result.frames.push_back(transfer_frame(transfer, animation, t));
+  return result;
+}
+
+void write_frames(const PieceSet& pieces, const AnimationResult& result, const std::filesystem::path& out) {
+  write_all(pieces, result.layout, result.frames.size(), result.fps, out, [&](std::size_t t) { return result.frames[t]; });
+}
+
+void write_frames(const PieceSet& pieces, const AnimationTransfer& transfer, const CoarseAnimation& animation,
+                  const std::filesystem::path& out) {
+  write_all(pieces, transfer.layout, transfer.frame_count, animation.fps, out,
+            [&](std::size_t t) { return transfer_frame(transfer, animation, t); });
+}
+
+}  // namespace fracref

@@ -1,0 +1,126 @@
+// The frames check: frames/frame_NNNN.obj, one per frame of report.json, each holding every
+// piece with the piece file's vertex count and triangles.
+#include <algorithm>
+#include <cstdio>
+#include <set>
+
+#include "check/check_internal.hpp"
+#include "io/mesh_io.hpp"
+
+namespace fracref::check_detail {
+namespace {
+
+namespace fs = std::filesystem;
+using Tri = std::array<std::uint32_t, 3>;
+
+std::string frame_name(std::size_t t) {
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "frame_%04zu.obj", t);
+  return buffer;
+}
+
+std::string group_name(std::size_t p) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "piece_%03zu", p);
+  return buffer;
+}
+
+// The piece's triangles in the order its OBJ (and every frame) lists them: outside, then inside.
+std::vector<Tri> obj_order(const PieceFile& f) {
+  std::vector<Tri> out;
+  for (std::uint8_t group : {std::uint8_t(0), std::uint8_t(1)})
+    for (std::size_t t = 0; t < f.mesh.triangles.size(); ++t)
+      if (f.inside[t] == group) out.push_back(f.mesh.triangles[t]);
+  return out;
+}
+
+// Frame files in frames/: the expected ones present, and the names of any others.
+void list_frames(const fs::path& dir, std::size_t count, std::vector<std::string>& missing, std::vector<std::string>& extra) {
+  std::set<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("frame_", 0) == 0 && entry.path().extension() == ".obj") names.insert(name);
+  }
+  for (std::size_t t = 0; t < count; ++t)
+    if (!names.erase(frame_name(t))) missing.push_back(frame_name(t));
+  extra.assign(names.begin(), names.end());
+}
+
+std::string listed(const std::vector<std::string>& names) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size() && i < 5; ++i) out += (i ? ", " : "") + names[i];
+  if (names.size() > 5) out += ", ...";
+  return out;
+}
+
+// The first thing wrong with group g of a frame, or "".
+std::string check_group(const MeshSoup& m, std::uint32_t g, const std::vector<std::size_t>& faces, const PieceFile& piece,
+                        const std::vector<Tri>& expected, std::uint32_t& next_vertex) {
+  if (faces.size() != expected.size())
+    return std::to_string(faces.size()) + " triangles, " + piece.name + " has " + std::to_string(expected.size());
+  std::uint32_t lo = UINT32_MAX, hi = 0;
+  for (std::size_t i : faces)
+    for (std::uint32_t v : m.triangles[i]) lo = std::min(lo, v), hi = std::max(hi, v);
+  const std::size_t count = faces.empty() ? 0 : hi - lo + 1;
+  if (count != piece.mesh.positions.size())
+    return std::to_string(count) + " vertices, " + piece.name + " has " + std::to_string(piece.mesh.positions.size());
+  if (!faces.empty() && lo != next_vertex)
+    return "vertices start at " + std::to_string(lo + 1) + ", expected " + std::to_string(next_vertex + 1) +
+           " (each piece on its own consecutive vertices)";
+  for (std::size_t k = 0; k < faces.size(); ++k) {
+    const Tri& t = m.triangles[faces[k]];
+    if (Tri{t[0] - lo, t[1] - lo, t[2] - lo} != expected[k])
+      return "triangle " + std::to_string(k) + " differs from " + piece.name;
+  }
+  next_vertex += std::uint32_t(count);
+  return "";
+}
+
+void check_frame(const fs::path& path, const std::string& name, const std::vector<PieceFile>& pieces,
+                 const std::vector<std::vector<Tri>>& expected, std::vector<std::string>& failures) {
+  const MeshSoup m = read_obj(path);
+  std::vector<std::vector<std::size_t>> faces(m.groups.size());
+  for (std::size_t i = 0; i < m.triangle_group.size(); ++i) faces[m.triangle_group[i]].push_back(i);
+  std::uint32_t next_vertex = 0;
+  for (std::size_t p = 0; p < pieces.size(); ++p) {
+    if (p >= m.groups.size() || m.groups[p] != group_name(p)) {
+      const bool anywhere = std::find(m.groups.begin(), m.groups.end(), group_name(p)) != m.groups.end();
+      failures.push_back(name + ": " + group_name(p) + (anywhere ? " out of order" : " missing"));
+      return;
+    }
+    if (!pieces[p].present) return;  // already reported by piece_files
+    const std::string why = check_group(m, std::uint32_t(p), faces[p], pieces[p], expected[p], next_vertex);
+    if (!why.empty()) {
+      failures.push_back(name + ": " + group_name(p) + " has " + why);
+      return;
+    }
+  }
+  if (m.groups.size() > pieces.size()) failures.push_back(name + ": unexpected group " + m.groups[pieces.size()]);
+  else if (next_vertex != m.positions.size())
+    failures.push_back(name + ": " + std::to_string(m.positions.size()) + " vertices, the pieces use " + std::to_string(next_vertex));
+}
+
+}  // namespace
+
+void check_frames(const fs::path& out, const std::vector<PieceFile>& pieces, std::size_t frames, CheckReport& report) {
+  std::vector<std::string> failures, missing, extra;
+  list_frames(out / "frames", frames, missing, extra);
+  if (!missing.empty())
+    failures.push_back("frames: " + std::to_string(missing.size()) + " of report.json's " + std::to_string(frames) +
+                       " frames missing: " + listed(missing));
+  if (!extra.empty())
+    failures.push_back("frames: " + std::to_string(extra.size()) + " frame files beyond report.json's " +
+                       std::to_string(frames) + ": " + listed(extra));
+  std::vector<std::vector<Tri>> expected;
+  for (const PieceFile& p : pieces) expected.push_back(p.present ? obj_order(p) : std::vector<Tri>{});
+  std::size_t checked = 0;
+  for (std::size_t t = 0; t < frames; ++t) {
+    if (std::find(missing.begin(), missing.end(), frame_name(t)) != missing.end()) continue;
+    check_frame(out / "frames" / frame_name(t), "frames/" + frame_name(t), pieces, expected, failures);
+    ++checked;
+  }
+  record(report, "frames", failures, std::to_string(checked) + " of " + std::to_string(frames) + " frames read");
+}
+
+}  // namespace fracref::check_detail

@@ -1,0 +1,255 @@
+// fracref check: a small valid output folder made by hand (a box cut in two, written with
+// write_pieces, and hand-written frames) passes; each way of breaking it is named.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "check/check_output.hpp"
+#include "geom/shapes.hpp"
+#include "io/mesh_io.hpp"
+#include "util/error.hpp"
+
+namespace fracref {
+namespace {
+
+namespace fs = std::filesystem;
+
+MeshSoup to_soup(const TriangleSoup& t) {
+  MeshSoup soup;
+  soup.positions = t.positions;
+  soup.triangles = t.triangles;
+  soup.polygons = t.triangles.size();
+  for (std::uint32_t i = 0; i < t.triangles.size(); ++i) soup.triangle_polygon.push_back(i);
+  return soup;
+}
+
+// A planar sheet at x = 1 across the box [0, 2] x [0, 1]^2, split 2 x 2.
+FractureSurface sheet() {
+  std::vector<glm::vec4> positions;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) positions.emplace_back(1.0f, 0.5f * float(i), 0.5f * float(j), 1.0f);
+  std::vector<glm::uvec4> faces;
+  for (std::uint32_t j = 0; j < 2; ++j)
+    for (std::uint32_t i = 0; i < 2; ++i) {
+      const std::uint32_t a = j * 3 + i;
+      faces.emplace_back(a, a + 1, a + 4, 0);
+      faces.emplace_back(a, a + 4, a + 3, 0);
+    }
+  return make_fracture_surface(positions, faces, std::vector<glm::ivec2>(faces.size(), glm::ivec2(1, 0)), 2);
+}
+
+// Every piece in one OBJ per frame, moved apart by t * 0.1 along x per piece.
+std::string frame_text(const PieceSet& set, std::size_t t) {
+  std::string out = "mtllib frames.mtl\n";
+  std::uint32_t base = 0;
+  for (std::size_t p = 0; p < set.pieces.size(); ++p) {
+    const auto& piece = set.pieces[p];
+    std::vector<std::uint32_t> used;
+    for (const auto& tri : piece.triangles) used.insert(used.end(), tri.begin(), tri.end());
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    char name[32];
+    std::snprintf(name, sizeof name, "o piece_%03zu\n", p);
+    out += name;
+    for (std::uint32_t v : used) {
+      const glm::dvec3 x = set.positions[v] + glm::dvec3(0.1 * double(t) * double(p), 0, 0);
+      out += "v " + std::to_string(x.x) + " " + std::to_string(x.y) + " " + std::to_string(x.z) + "\n";
+    }
+    for (std::uint8_t group : {0, 1}) {
+      out += group ? "usemtl inside\n" : "usemtl outside\n";
+      for (std::size_t f = 0; f < piece.triangles.size(); ++f) {
+        if (piece.inside[f] != group) continue;
+        out += "f";
+        for (std::uint32_t v : piece.triangles[f])
+          out += " " + std::to_string(base + 1 + (std::lower_bound(used.begin(), used.end(), v) - used.begin()));
+        out += "\n";
+      }
+    }
+    base += std::uint32_t(used.size());
+  }
+  return out;
+}
+
+class CheckOutput : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / ("fracref_check_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "frames");
+    const MeshSoup exterior = to_soup(make_box({0, 0, 0}, {2, 1, 1}, 2));
+    set_ = build_pieces(sheet(), exterior);
+    write_pieces(set_, dir_);
+    write_mesh(dir_ / "exterior.ply", exterior);
+    nlohmann::ordered_json report = {{"version", "test"}, {"pieces", 2}, {"frames", 3}};
+    for (std::size_t p = 0; p < 2; ++p) report["piece_meshes"].push_back({{"piece", p}, {"triangles", set_.pieces[p].triangles.size()}});
+    write("report.json", report.dump(2));
+    for (std::size_t t = 0; t < 3; ++t) write("frames/frame_000" + std::to_string(t) + ".obj", frame_text(set_, t));
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  void write(const std::string& name, const std::string& text) { std::ofstream(dir_ / name, std::ios::binary) << text; }
+  fs::path piece_ply(int p) const { return dir_ / "pieces" / ("piece_00" + std::to_string(p) + ".ply"); }
+
+  // The failure lines of a check that must fail, with the named check failed.
+  std::string failures_of(const std::string& check) {
+    const CheckReport r = check_output(dir_);
+    EXPECT_FALSE(r.ok());
+    EXPECT_EQ(r.exit_code(), 1);
+    std::string all;
+    for (const std::string& f : r.failures) all += f + "\n";
+    bool found = false;
+    for (const CheckResult& c : r.checks)
+      if (c.name == check) {
+        found = true;
+        EXPECT_EQ(c.status, CheckStatus::kFailed) << all;
+      }
+    EXPECT_TRUE(found) << check;
+    return all;
+  }
+
+  fs::path dir_;
+  PieceSet set_;
+};
+
+TEST_F(CheckOutput, ValidFolderPasses) {
+  const CheckReport r = check_output(dir_);
+  for (const std::string& f : r.failures) ADD_FAILURE() << f;
+  EXPECT_TRUE(r.ok());
+  EXPECT_EQ(r.exit_code(), 0);
+  EXPECT_EQ(r.pieces, 2u);
+  EXPECT_EQ(r.frames, 3u);
+  ASSERT_EQ(r.checks.size(), 6u);
+  for (const CheckResult& c : r.checks) EXPECT_EQ(c.status, CheckStatus::kPassed) << c.name << ": " << c.detail;
+  const auto j = check_report_json(r);
+  EXPECT_EQ(j["ok"], true);
+  EXPECT_EQ(j["checks"][5]["name"], "frames");
+  EXPECT_EQ(j["checks"][5]["status"], "passed");
+}
+
+TEST_F(CheckOutput, ObjOnlyPiecesAreReadWithTheirMaterials) {
+  fs::remove(piece_ply(0));
+  fs::remove(piece_ply(1));
+  const CheckReport r = check_output(dir_);
+  for (const std::string& f : r.failures) ADD_FAILURE() << f;
+  EXPECT_TRUE(r.ok());
+}
+
+TEST_F(CheckOutput, DeletedTriangleIsNotClosed) {
+  MeshSoup m = read_ply(piece_ply(1));
+  m.triangles.pop_back();
+  m.triangle_polygon.pop_back();
+  m.face_properties[0].values.pop_back();
+  write_mesh(piece_ply(1), m);
+  const std::string all = failures_of("piece_meshes");
+  EXPECT_NE(all.find("pieces/piece_001.ply: not closed (3 edges with one face"), std::string::npos) << all;
+  EXPECT_NE(all.find("pieces/piece_001.ply: " + std::to_string(m.triangles.size()) + " triangles, report.json says"),
+            std::string::npos) << all;
+  EXPECT_NE(all.find("frames/frame_0000.obj: piece_001 has"), std::string::npos) << all;
+  EXPECT_EQ(all.find("piece_000.ply"), std::string::npos) << all;
+}
+
+TEST_F(CheckOutput, FlippedTriangleIsInconsistentlyOriented) {
+  MeshSoup m = read_ply(piece_ply(0));
+  std::swap(m.triangles[3][1], m.triangles[3][2]);
+  write_mesh(piece_ply(0), m);
+  const std::string all = failures_of("piece_meshes");
+  EXPECT_NE(all.find("pieces/piece_000.ply: inconsistently oriented (3 edges used twice in one direction"), std::string::npos) << all;
+  EXPECT_NE(all.find("frames/frame_0000.obj: piece_000 has triangle"), std::string::npos) << all;
+}
+
+TEST_F(CheckOutput, SharedVertexMovedByOneUlpIsNamed) {
+  MeshSoup m = read_ply(piece_ply(1));
+  std::uint32_t v = UINT32_MAX;  // the fracture vertex in the middle of the sheet
+  for (std::uint32_t i = 0; i < m.positions.size(); ++i)
+    if (m.positions[i] == glm::dvec3(1.0, 0.5, 0.5)) v = i;
+  ASSERT_NE(v, UINT32_MAX);
+  m.positions[v].x = std::nextafter(m.positions[v].x, 10.0);
+  write_mesh(piece_ply(1), m);
+  const CheckReport r = check_output(dir_);
+  std::string all;
+  for (const std::string& f : r.failures) all += f + "\n";
+  for (const CheckResult& c : r.checks)
+    EXPECT_EQ(c.status, c.name == "shared_vertices" ? CheckStatus::kFailed : CheckStatus::kPassed) << c.name << "\n" << all;
+  EXPECT_NE(all.find("pieces/piece_001.ply: 1 of "), std::string::npos) << all;
+  EXPECT_NE(all.find("fracture vertices are not shared bit for bit with another piece, e.g. vertex " + std::to_string(v)),
+            std::string::npos) << all;
+  EXPECT_NE(all.find("pieces/piece_000.ply: 1 of "), std::string::npos) << all;
+}
+
+TEST_F(CheckOutput, DroppedAndExtraFramesAreNamed) {
+  fs::remove(dir_ / "frames" / "frame_0001.obj");
+  write("frames/frame_0007.obj", frame_text(set_, 0));
+  const std::string all = failures_of("frames");
+  EXPECT_NE(all.find("frames: 1 of report.json's 3 frames missing: frame_0001.obj"), std::string::npos) << all;
+  EXPECT_NE(all.find("frames: 1 frame files beyond report.json's 3: frame_0007.obj"), std::string::npos) << all;
+}
+
+TEST_F(CheckOutput, FrameWithoutAPieceOrWithWrongVertexCountIsNamed) {
+  std::string text = frame_text(set_, 2);
+  write("frames/frame_0002.obj", text.substr(0, text.find("o piece_001")));
+  std::string extra = frame_text(set_, 1) + "v 0 0 0\n";
+  write("frames/frame_0001.obj", extra);
+  const std::string all = failures_of("frames");
+  EXPECT_NE(all.find("frames/frame_0002.obj: piece_001 missing"), std::string::npos) << all;
+  EXPECT_NE(all.find("frames/frame_0001.obj: "), std::string::npos) << all;
+  EXPECT_NE(all.find(" vertices, the pieces use "), std::string::npos) << all;
+}
+
+TEST_F(CheckOutput, MissingPieceAndStrayPieceFiles) {
+  fs::remove(piece_ply(1));
+  fs::remove(dir_ / "pieces" / "piece_001.obj");
+  fs::copy_file(piece_ply(0), dir_ / "pieces" / "piece_002.ply");
+  const std::string all = failures_of("piece_files");
+  EXPECT_NE(all.find("pieces/piece_001.ply: missing"), std::string::npos) << all;
+  EXPECT_NE(all.find("pieces/piece_002.ply: not one of the report's 2 pieces"), std::string::npos) << all;
+  EXPECT_NE(all.find("exterior.ply: "), std::string::npos) << all;  // the partition no longer holds
+}
+
+TEST_F(CheckOutput, MissingExteriorFailsThePartition) {
+  fs::remove(dir_ / "exterior.ply");
+  const std::string all = failures_of("partition");
+  EXPECT_EQ(all, "exterior.ply: missing\n");
+}
+
+TEST_F(CheckOutput, WithoutFramesOrPiecesTheChecksAreSkipped) {
+  fs::remove_all(dir_ / "frames");
+  CheckReport r = check_output(dir_);
+  EXPECT_TRUE(r.ok());
+  EXPECT_EQ(r.checks.back().name, "frames");
+  EXPECT_EQ(r.checks.back().status, CheckStatus::kSkipped);
+  fs::remove_all(dir_ / "pieces");
+  write("report.json", R"({"pieces": 2, "frames": 3})");
+  r = check_output(dir_);
+  EXPECT_TRUE(r.ok());
+  ASSERT_EQ(r.checks.size(), 6u);
+  for (std::size_t i = 1; i < 6; ++i) EXPECT_EQ(r.checks[i].status, CheckStatus::kSkipped);
+}
+
+TEST_F(CheckOutput, NotAFracrefOutputIsAnInputError) {
+  auto message = [&] {
+    try {
+      check_output(dir_);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no InputError");
+  };
+  write("report.json", "{\"pieces\": 2,");
+  EXPECT_NE(message().find("report.json: byte "), std::string::npos) << message();
+  write("report.json", R"({"pieces": 2})");
+  EXPECT_NE(message().find("report.json: key 'frames' missing"), std::string::npos) << message();
+  write("report.json", R"({"pieces": -1, "frames": 0})");
+  EXPECT_NE(message().find("key 'pieces' is not a non-negative integer"), std::string::npos) << message();
+  fs::remove(dir_ / "report.json");
+  EXPECT_NE(message().find("report.json: missing or unreadable"), std::string::npos) << message();
+  EXPECT_THROW(check_output(dir_ / "nowhere"), InputError);
+  write("report.json", R"({"pieces": 2, "frames": 3})");
+  write("frames/frame_0001.obj", "v 0 0 nan\n");
+  EXPECT_NE(message().find("frame_0001.obj:1:"), std::string::npos) << message();
+}
+
+}  // namespace
+}  // namespace fracref
