@@ -196,14 +196,38 @@ TEST(PiecesTriangulate, FracturePolygonFansAndEars) {
   const glm::dvec3 n(0, 0, 1);
   const std::vector<glm::dvec3> one = {{0, 0, 0}, {0.3, -0.01, 0}, {0.6, -0.01, 0}, {1, 0, 0}, {0.5, 1, 0}};
   const auto fan = triangulate_fracture_polygon(one, {5, 1, 1, 3, 6}, n);
-  ASSERT_EQ(fan.size(), 3u);
-  for (const auto& t : fan) EXPECT_TRUE(t[0] == 4 || t[1] == 4 || t[2] == 4);
+  ASSERT_EQ(fan.triangles.size(), 3u);
+  EXPECT_FALSE(fan.centre_added);
+  for (const auto& t : fan.triangles) EXPECT_TRUE(t[0] == 4 || t[1] == 4 || t[2] == 4);
   const std::vector<glm::dvec3> two = {{0, 0, 0}, {0.5, -0.01, 0}, {1, 0, 0}, {0.76, 0.5, 0}, {0.5, 1, 0}};
   const std::vector<unsigned> mask = {5, 1, 3, 2, 6};
   const auto ears = triangulate_fracture_polygon(two, mask, n);
-  ASSERT_EQ(ears.size(), 3u);
-  for (const auto& t : ears) EXPECT_EQ(mask[t[0]] & mask[t[1]] & mask[t[2]], 0u);
+  ASSERT_EQ(ears.triangles.size(), 3u);
+  for (const auto& t : ears.triangles) EXPECT_EQ(mask[t[0]] & mask[t[1]] & mask[t[2]], 0u);
   EXPECT_THROW(triangulate_fracture_polygon(one, {5, 1, 1, 3, 6}, -n), RunError);
+}
+
+// A face with all corners on B over a crease: the plane y = 0 (top) meets the plane x = 0
+// (side) along the z axis. Corners a, b on the top, c on the side; the trace b -> c bends over
+// the crease at k. Every triangle among the polygon's points lies in one plane of B, so the
+// face is fanned from its centroid.
+TEST(PiecesTriangulate, FaceOverCreaseIsFannedFromItsCentroid) {
+  const glm::dvec3 a(0.5, 0, 0), b(0.3, 0, 1), k(0, 0, 0.8), m(0, -0.2, 0.6), c(0, -0.5, 0.3);
+  const std::vector<glm::dvec3> polygon = {a, b, k, m, c};
+  const unsigned on = kOnExterior;
+  const std::vector<unsigned> mask = {5 | on, 3 | on, 2 | on, 2 | on, 6 | on};
+  // Flat: all three corners in the plane y = 0 or all in the plane x = 0.
+  const FlatTest flat = [](const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& r) {
+    return (p.y == 0 && q.y == 0 && r.y == 0) || (p.x == 0 && q.x == 0 && r.x == 0);
+  };
+  const glm::dvec3 normal = glm::cross(b - a, c - a);
+  const auto result = triangulate_fracture_polygon(polygon, mask, normal, flat);
+  ASSERT_TRUE(result.centre_added);
+  EXPECT_EQ(result.centre, (a + b + c) / 3.0);
+  EXPECT_EQ(result.triangles.size(), polygon.size());
+  for (const auto& t : result.triangles) EXPECT_EQ(t[2], polygon.size());
+  // Without the flatness test the fan from a is taken (and would lie flat on B).
+  EXPECT_FALSE(triangulate_fracture_polygon(polygon, mask, normal).centre_added);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // build_pieces: snap, trace, insert, patches, merge (pieces.hpp).
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "pieces/pieces.hpp"
@@ -15,10 +16,22 @@ using DirectedEdge = std::pair<std::uint32_t, std::uint32_t>;
 
 std::string vertex_pair(std::uint32_t a, std::uint32_t b) { return std::to_string(a) + "-" + std::to_string(b); }
 
+const FractureSurface& checked(const FractureSurface& s) {
+  const std::string problem = validate(s);
+  if (!problem.empty()) throw RunError("the fracture surface is not valid: " + problem);
+  return s;
+}
+
 class PieceBuilder {
  public:
   PieceBuilder(const FractureSurface& s, const MeshSoup& exterior, const PieceOptions& options)
-      : s_(s), m_(make_exterior_mesh(exterior)), options_(options) {}
+      : m_(make_exterior_mesh(exterior)),
+        options_(options),
+        s_(repair_boundary(checked(s), m_, options.merge_tolerance * m_.diagonal, options.remove_flaps,
+                           options.snap_tolerance * m_.diagonal, repair_)) {
+    out_.boundary_edges_merged = repair_.collapsed;
+    out_.flaps_removed = repair_.flaps_removed;
+  }
 
   PieceSet run() {
     init_vertices();
@@ -130,7 +143,7 @@ class PieceBuilder {
     try {
       trace = trace_on_exterior(m_, cut_.location[p], cut_.location[q], options_.plane_epsilon * m_.diagonal);
     } catch (const RunError& err) {
-      throw RunError("fracture surface boundary edge " + vertex_pair(p, q) + " (face " + std::to_string(f) + ") from " +
+      throw RunError("fracture surface boundary edge " + vertex_pair(p, q) + " (face " + std::to_string(repair_.face_origin[f]) + ") from " +
                      format_point(out_.positions[p]) + " to " + format_point(out_.positions[q]) +
                      " cannot be traced on the exterior: " + err.what());
     }
@@ -140,9 +153,9 @@ class PieceBuilder {
     path.push_back(q);
     std::vector<double> along(path.size(), 0.0);
     for (std::size_t i = 0; i < trace.steps.size(); ++i) {
-      cut_.segments.push_back({path[i], path[i + 1], trace.steps[i].face});
+      cut_.segments.push_back({path[i], path[i + 1], trace.steps[i].face, p, q});
       along[i + 1] = along[i] + glm::length(out_.positions[path[i + 1]] - out_.positions[path[i]]);
-      mark_cut(path[i], path[i + 1], f);
+      mark_cut(path[i], path[i + 1], f, p, q);
     }
     for (std::size_t c = first_crossing, i = 1; c < out_.crossings.size(); ++c) {
       while (path[i] != out_.crossings[c].vertex) ++i;
@@ -152,11 +165,15 @@ class PieceBuilder {
   }
 
   // A patch face using (a, b) in the winding of S face f lies in f's front piece.
-  void mark_cut(std::uint32_t a, std::uint32_t b, std::uint32_t f) {
+  void mark_cut(std::uint32_t a, std::uint32_t b, std::uint32_t f, std::uint32_t p, std::uint32_t q) {
     const glm::ivec2 pieces = s_.face_pieces[f];
-    if (!cut_piece_.emplace(DirectedEdge{a, b}, pieces.x).second || !cut_piece_.emplace(DirectedEdge{b, a}, pieces.y).second)
-      throw RunError("the traces of two fracture surface boundary edges overlap between " + format_point(out_.positions[a]) +
-                     " and " + format_point(out_.positions[b]));
+    auto [it, inserted] = cut_piece_.emplace(DirectedEdge{a, b}, CutSide{pieces.x, p, q});
+    if (!inserted || !cut_piece_.emplace(DirectedEdge{b, a}, CutSide{pieces.y, p, q}).second) {
+      auto other = inserted ? cut_piece_.find({b, a}) : it;
+      throw RunError("the traces of fracture surface boundary edges " + vertex_pair(other->second.s_from, other->second.s_to) +
+                     " and " + vertex_pair(p, q) + " overlap on the exterior between " + format_point(out_.positions[a]) +
+                     " and " + format_point(out_.positions[b]) + ": the fracture surface folds over itself there");
+    }
   }
 
   void remesh_fracture_faces() {
@@ -166,10 +183,10 @@ class PieceBuilder {
       std::vector<unsigned> mask;
       for (int k = 0; k < 3; ++k) {
         polygon.push_back(s_.faces[f][k]);
-        mask.push_back((1u << k) | (1u << ((k + 2) % 3)));
+        mask.push_back((1u << k) | (1u << ((k + 2) % 3)) | (cut_.on_b[s_.faces[f][k]] ? kOnExterior : 0u));
         auto it = paths_.find({f, k});
         if (it == paths_.end()) continue;
-        for (std::uint32_t g : it->second) polygon.push_back(g), mask.push_back(1u << k);
+        for (std::uint32_t g : it->second) polygon.push_back(g), mask.push_back((1u << k) | kOnExterior);
       }
       if (polygon.size() == 3) {
         s_triangles_[f].push_back({polygon[0], polygon[1], polygon[2]});
@@ -181,13 +198,27 @@ class PieceBuilder {
       const glm::dvec3 normal =
           glm::cross(out_.positions[s_.faces[f][1]] - corner, out_.positions[s_.faces[f][2]] - corner);
       try {
-        for (const Tri& t : triangulate_fracture_polygon(xyz, mask, normal))
-          s_triangles_[f].push_back({polygon[t[0]], polygon[t[1]], polygon[t[2]]});
+        const FracturePolygon result = triangulate_fracture_polygon(xyz, mask, normal, flat_on_exterior_);
+        if (result.centre_added) {
+          polygon.push_back(new_vertex(result.centre, kFaceCentre, nullptr));
+          const glm::uvec4 t = s_.faces[f];
+          out_.face_centres.push_back({polygon.back(), repair_.face_origin[f], {t.x, t.y, t.z}});
+        }
+        for (const Tri& t : result.triangles) s_triangles_[f].push_back({polygon[t[0]], polygon[t[1]], polygon[t[2]]});
       } catch (const RunError& err) {
-        throw RunError("fracture surface face " + std::to_string(f) + " near " + format_point(xyz[0]) +
+        throw RunError("fracture surface face " + std::to_string(repair_.face_origin[f]) + " near " + format_point(xyz[0]) +
                        ": cannot insert the traced boundary points: " + err.what());
       }
     }
+  }
+
+  // A triangle with its corners on B lies flat on it unless its centroid is inside B, deeper
+  // than a thousandth of its longest edge (a triangle across a convex crease is).
+  bool flat_on_exterior(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) const {
+    const glm::dvec3 centroid = (a + b + c) / 3.0;
+    const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+    const double depth = std::sqrt(closest_point(m_.bvh, centroid).squared_distance);
+    return !(depth > 1e-3 * longest && point_in_mesh(m_.bvh, centroid));
   }
 
   // Flood fill of the cut B across edges that are not on a trace; each patch's piece.
@@ -219,10 +250,10 @@ class PieceBuilder {
       for (int k = 0; k < 3; ++k) {
         auto it = cut_piece_.find({b_triangles_[t][k], b_triangles_[t][(k + 1) % 3]});
         if (it == cut_piece_.end()) continue;
-        auto [at, inserted] = patch_piece.emplace(root, it->second);
-        if (!inserted && at->second != it->second)
+        auto [at, inserted] = patch_piece.emplace(root, it->second.piece);
+        if (!inserted && at->second != it->second.piece)
           throw RunError("the part of the exterior around " + format_point(out_.positions[b_triangles_[root][0]]) +
-                         " borders pieces " + std::to_string(at->second) + " and " + std::to_string(it->second) +
+                         " borders pieces " + std::to_string(at->second) + " and " + std::to_string(it->second.piece) +
                          " along the cut: the fracture surface does not split the exterior consistently");
       }
     }
@@ -270,16 +301,24 @@ class PieceBuilder {
     }
   }
 
-  const FractureSurface& s_;
   ExteriorMesh m_;
   PieceOptions options_;
+  RepairReport repair_;
+  FractureSurface s_;  // the input after repair_boundary
   PieceSet out_;
   ExteriorCut cut_;
   std::vector<std::uint32_t> b_owner_;                       // per B vertex: the S vertex on it
   std::map<std::pair<std::uint32_t, int>, std::vector<std::uint32_t>> paths_;  // (S face, side) -> inner trace points
-  std::map<DirectedEdge, int> cut_piece_;                    // directed cut edge -> piece of the patch face using it
+  struct CutSide {
+    int piece;                    // of the patch face using the directed cut edge
+    std::uint32_t s_from, s_to;  // the S boundary edge traced there
+  };
+  std::map<DirectedEdge, CutSide> cut_piece_;
   std::vector<Tri> b_triangles_;
   std::vector<std::vector<Tri>> s_triangles_;
+  const FlatTest flat_on_exterior_ = [this](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    return flat_on_exterior(a, b, c);
+  };
 };
 
 }  // namespace

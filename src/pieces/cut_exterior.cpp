@@ -105,8 +105,13 @@ class TriangleCutter {
     try {
       tris = triangulate_cut_triangle(input_);
     } catch (const RunError& e) {
+      std::set<std::pair<std::uint32_t, std::uint32_t>> traced;
+      for (const auto& seg : cut_.segments)
+        if (seg.face == f) traced.emplace(seg.s_from, seg.s_to);
+      std::string names;
+      for (const auto& [p, q] : traced) names += (names.empty() ? "" : ", ") + std::to_string(p) + "-" + std::to_string(q);
       throw RunError("exterior triangle " + std::to_string(f) + " near " + format_point(m_.positions[t[0]]) +
-                     ": cannot insert the cut: " + e.what());
+                     ": cannot insert the traces of fracture surface boundary edges " + names + ": " + e.what());
     }
     for (const auto& tri : tris) out.push_back({gids_[tri[0]], gids_[tri[1]], gids_[tri[2]]});
   }

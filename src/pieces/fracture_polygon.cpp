@@ -3,6 +3,7 @@
 // with one cut side the result is the fan from the opposite corner; with more, ear clipping in
 // the face's plane takes the best-shaped allowed ear first.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -25,12 +26,14 @@ double min_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) 
 
 class EarClipper {
  public:
-  EarClipper(const std::vector<glm::dvec3>& polygon, const std::vector<unsigned>& mask, const glm::dvec3& normal)
-      : xyz_(polygon), mask_(mask) {
+  EarClipper(const std::vector<glm::dvec3>& polygon, const std::vector<unsigned>& mask, const glm::dvec3& normal,
+             const FlatTest& flat)
+      : xyz_(polygon), mask_(mask), flat_(flat) {
     const glm::dvec3 n = glm::normalize(normal);
     const glm::dvec3 a = std::abs(n.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-    const glm::dvec3 e1 = glm::normalize(glm::cross(n, a)), e2 = glm::cross(n, e1);
-    for (const glm::dvec3& p : polygon) uv_.emplace_back(glm::dot(p - polygon[0], e1), glm::dot(p - polygon[0], e2));
+    e1_ = glm::normalize(glm::cross(n, a));
+    e2_ = glm::cross(n, e1_);
+    for (const glm::dvec3& p : polygon) uv_.push_back(project(p));
   }
 
   std::vector<Tri> fan(std::uint32_t apex) {
@@ -39,6 +42,20 @@ class EarClipper {
     for (std::uint32_t i = 1; i + 1 < n; ++i) {
       const Tri t{apex, (apex + i) % n, (apex + i + 1) % n};
       if (orient(t[0], t[1], t[2]) <= 0) throw RunError("the traced boundary is not visible from the opposite corner");
+      if (flat(t[0], t[1], t[2])) throw RunError("a triangle of the fan would lie flat on the exterior");
+      out.push_back(t);
+    }
+    return out;
+  }
+
+  // Every side of the polygon joined to a point inside it (index xyz_.size()).
+  std::vector<Tri> centre_fan(const glm::dvec3& centre) {
+    const std::uint32_t n = std::uint32_t(xyz_.size());
+    uv_.push_back(project(centre));
+    std::vector<Tri> out;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const Tri t{i, (i + 1) % n, n};
+      if (orient(t[0], t[1], t[2]) <= 0) throw RunError("the traced boundary is not visible from the face's centre");
       out.push_back(t);
     }
     return out;
@@ -61,20 +78,24 @@ class EarClipper {
       out.push_back({ring[(best + ring.size() - 1) % ring.size()], ring[best], ring[(best + 1) % ring.size()]});
       ring.erase(ring.begin() + std::ptrdiff_t(best));
     }
-    if ((mask_[ring[0]] & mask_[ring[1]] & mask_[ring[2]]) != 0 || orient(ring[0], ring[1], ring[2]) <= 0)
+    if ((mask_[ring[0]] & mask_[ring[1]] & mask_[ring[2]] & 7u) != 0 || flat(ring[0], ring[1], ring[2]) ||
+        orient(ring[0], ring[1], ring[2]) <= 0)
       throw RunError("its last triangle would be degenerate");
     out.push_back({ring[0], ring[1], ring[2]});
     return out;
   }
 
  private:
+  glm::dvec2 project(const glm::dvec3& p) const { return {glm::dot(p - xyz_[0], e1_), glm::dot(p - xyz_[0], e2_)}; }
   int orient(std::uint32_t a, std::uint32_t b, std::uint32_t c) const { return orient2d(uv_[a], uv_[b], uv_[c]); }
+  bool flat(std::uint32_t u, std::uint32_t v, std::uint32_t w) const {
+    return flat_ && (mask_[u] & mask_[v] & mask_[w] & kOnExterior) != 0 && flat_(xyz_[u], xyz_[v], xyz_[w]);
+  }
 
-  // An ear (u, v, w) must be strictly convex and empty, and its diagonal (u, w) must not join
-  // two points of one side: the part it cuts off would be a chain of that side only.
+  // An ear (u, v, w) must be strictly convex, empty, not flat on B, and its diagonal (u, w) must
+  // not join two points of one side: the part it cuts off would be a chain of that side only.
   bool is_ear(const std::vector<std::uint32_t>& ring, std::uint32_t u, std::uint32_t v, std::uint32_t w) const {
-    if ((mask_[u] & mask_[w]) != 0) return false;
-    if (orient(u, v, w) <= 0) return false;
+    if ((mask_[u] & mask_[w] & 7u) != 0 || orient(u, v, w) <= 0 || flat(u, v, w)) return false;
     for (std::uint32_t z : ring) {
       if (z == u || z == v || z == w) continue;
       if (orient(u, v, z) >= 0 && orient(v, w, z) >= 0 && orient(w, u, z) >= 0) return false;
@@ -84,30 +105,57 @@ class EarClipper {
 
   const std::vector<glm::dvec3>& xyz_;
   const std::vector<unsigned>& mask_;
+  const FlatTest& flat_;
+  glm::dvec3 e1_{0.0}, e2_{0.0};
   std::vector<glm::dvec2> uv_;
 };
 
 }  // namespace
 
-std::vector<std::array<std::uint32_t, 3>> triangulate_fracture_polygon(const std::vector<glm::dvec3>& polygon,
-                                                                       const std::vector<unsigned>& side_mask,
-                                                                       const glm::dvec3& normal) {
-  if (polygon.size() == 3) return {{0, 1, 2}};
+FracturePolygon triangulate_fracture_polygon(const std::vector<glm::dvec3>& polygon, const std::vector<unsigned>& side_mask,
+                                             const glm::dvec3& normal, const FlatTest& flat) {
+  FracturePolygon out;
+  if (polygon.size() == 3) {
+    out.triangles = {{0, 1, 2}};
+    return out;
+  }
   // The polygon follows B and is not planar: project along its vector area (Newell's normal),
   // which sees a path bending around a crease of B better than the plane of the corners does.
   glm::dvec3 area(0.0);
   for (std::size_t i = 0; i < polygon.size(); ++i) area += glm::cross(polygon[i], polygon[(i + 1) % polygon.size()]);
   if (!(glm::dot(area, normal) > 0.0)) throw RunError("the traced boundary folds over the face");
-  EarClipper clipper(polygon, side_mask, area);
-  // One cut side: the fan from the corner off that side is the only allowed triangulation.
-  unsigned cut_sides = 0;
-  for (unsigned m : side_mask)
-    if (m == 1u || m == 2u || m == 4u) cut_sides |= m;
-  if (cut_sides == 1u || cut_sides == 2u || cut_sides == 4u) {
-    for (std::uint32_t i = 0; i < polygon.size(); ++i)
-      if ((side_mask[i] & cut_sides) == 0) return clipper.fan(i);
+  EarClipper clipper(polygon, side_mask, area, flat);
+  try {
+    // One cut side: the fan from the corner off that side is the only allowed triangulation.
+    unsigned cut_sides = 0;
+    for (unsigned m : side_mask)
+      if ((m & 7u) == 1u || (m & 7u) == 2u || (m & 7u) == 4u) cut_sides |= m & 7u;
+    if (cut_sides == 1u || cut_sides == 2u || cut_sides == 4u) {
+      for (std::uint32_t i = 0; i < polygon.size(); ++i)
+        if ((side_mask[i] & cut_sides) == 0) {
+          out.triangles = clipper.fan(i);
+          return out;
+        }
+    }
+    out.triangles = clipper.clip();
+    return out;
+  } catch (const RunError& by_sides) {
+    // A face with all corners on B whose traces bend over a crease: no triangle among its own
+    // points avoids lying flat on B, so every side is joined to the face's centroid.
+    glm::dvec3 centre(0.0);
+    int corners = 0;
+    for (std::size_t i = 0; i < polygon.size(); ++i)
+      if (std::popcount(side_mask[i] & 7u) == 2) centre += polygon[i], ++corners;
+    if (corners != 3) throw;
+    try {
+      out.centre = centre / 3.0;
+      out.triangles = clipper.centre_fan(out.centre);
+      out.centre_added = true;
+      return out;
+    } catch (const RunError&) {
+      throw by_sides;
+    }
   }
-  return clipper.clip();
 }
 
 }  // namespace fracref::pieces_detail

@@ -6,6 +6,8 @@
 // share their fracture vertices exactly (same index in one shared position array).
 //
 // Method (build_pieces):
+//  0. Repair. Boundary edges of S shorter than PieceOptions::merge_tolerance are contracted
+//     and faces lying flat on B are left out (see PieceOptions), on a copy of S.
 //  1. Snap. Every boundary vertex of S (kVertexBoundary) is located on B by a closest-point
 //     query: a B vertex, a point of a B edge or a point inside a B triangle (barycentric weights
 //     below PieceOptions::location_epsilon are zeroed). Its position becomes that point.
@@ -22,20 +24,21 @@
 //     re-triangulated in its own barycentric plane (a constrained triangulation, exact
 //     orientation tests, Delaunay flips for shape), and each face of S on a traced edge becomes
 //     a polygon re-triangulated by ear clipping (never a triangle lying along B: for one cut edge
-//     this is the fan from the opposite corner).
+//     this is the fan from the opposite corner; a face with all corners on B whose trace bends
+//     over a crease of B is fanned from its centroid, see FaceCentre).
 //  4. Patches. The cut B is flood-filled across its edges that are not on a trace. A patch face
 //     using the directed cut edge (x, y) in the winding direction of the S face on that edge
 //     belongs to that face's front piece, in the opposite direction to its back piece; every cut
 //     edge of a patch must agree. A B component no trace touches goes to the piece on the side of
 //     the S face nearest to it (to piece 0 when S has no faces).
 //  5. Merge. Each piece is its patches (inside = 0) plus its S faces wound outward (inside = 1).
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <limits>
 #include <string>
 #include <vector>
 
-#include <array>
 #include <glm/glm.hpp>
 
 #include "io/mesh_soup.hpp"
@@ -45,6 +48,17 @@ namespace fracref {
 
 /// vertex_origin value of a vertex inserted where a trace crosses a B edge.
 inline constexpr std::int64_t kCrossing = std::numeric_limits<std::int64_t>::min();
+
+/// vertex_origin value of a vertex added at the centroid of a fracture face (see FaceCentre).
+inline constexpr std::int64_t kFaceCentre = kCrossing + 1;
+
+/// A vertex added at the centroid of a face of S whose corners all lie on B and whose traced
+/// boundary bends over a crease of B: no triangle among the face's own points would stay off B.
+struct FaceCentre {
+  std::uint32_t vertex = 0;               ///< index in PieceSet::positions
+  std::uint32_t s_face = 0;               ///< the face of S (input numbering)
+  std::array<std::uint32_t, 3> corners{};  ///< its S vertices; the point is their mean
+};
 
 /// A vertex inserted by the cut, where the trace of an S boundary edge crosses an edge of B.
 struct CrossingPoint {
@@ -60,7 +74,8 @@ struct PieceSet {
   /// Every vertex of every piece. Index layout: [0, S vertices) are the vertices of S in their
   /// order (boundary ones moved onto B, the others converted to double as they are); then the
   /// vertices of B in their order, less those an S vertex was snapped onto (that S vertex takes
-  /// their place); then the crossing points, in the order of `crossings`.
+  /// their place); then the crossing points, in the order of `crossings`; then the face
+  /// centres, in the order of `face_centres`.
   std::vector<glm::dvec3> positions;
   struct Piece {
     std::vector<std::array<std::uint32_t, 3>> triangles;  ///< indices into positions, outward
@@ -68,11 +83,15 @@ struct PieceSet {
   };
   std::vector<Piece> pieces;  ///< index = piece id of S
   /// Per position: >= 0 the S vertex it is; -1 - b for B vertex b; kCrossing for a crossing
-  /// point (described by `crossings`).
+  /// point (described by `crossings`); kFaceCentre for a face centre (`face_centres`).
   std::vector<std::int64_t> vertex_origin;
   std::vector<CrossingPoint> crossings;  ///< ascending vertex
+  std::vector<FaceCentre> face_centres;  ///< ascending vertex
   std::uint32_t s_vertex_count = 0;      ///< vertices of S (the first positions)
   std::uint32_t snapped_to_b_vertex = 0; ///< S boundary vertices that landed on a B vertex
+  std::uint32_t boundary_edges_merged = 0;  ///< short boundary edges of S contracted (their
+                                            ///< removed end stays in positions, unused)
+  std::uint32_t flaps_removed = 0;          ///< faces of S lying flat on B, left out
 };
 
 struct PieceOptions {
@@ -85,6 +104,13 @@ struct PieceOptions {
   /// B vertices closer than this (relative to B's diagonal) to a trace's plane are on it.
   double plane_epsilon = 1e-9;
   bool delaunay = true;  ///< improve the re-triangulated B triangles by Delaunay flips
+  /// Boundary edges of S shorter than this (relative to B's diagonal) are contracted before
+  /// the cut (0 = never): two boundary vertices a hair apart leave a face that would have to
+  /// lie in B wherever the next trace bends over a crease.
+  double merge_tolerance = 1e-4;
+  /// Remove faces of S with two or three boundary edges that lie flat on B (flaps): they bound
+  /// no volume and would fold a piece onto itself.
+  bool remove_flaps = true;
 };
 
 /// Cuts B along the boundary of S and builds one closed mesh per piece of S (see the file

@@ -3,6 +3,7 @@
 // re-triangulations. Not part of the public API.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <utility>
@@ -12,6 +13,7 @@
 
 #include "geom/bvh.hpp"
 #include "io/mesh_soup.hpp"
+#include "surface/fracture_surface.hpp"
 
 namespace fracref::pieces_detail {
 
@@ -95,14 +97,31 @@ struct CutTriangle {
 /// passes through another point, two constraints cross, or two points coincide.
 std::vector<std::array<std::uint32_t, 3>> triangulate_cut_triangle(const CutTriangle& input);
 
+/// Whether a triangle with all three corners on B lies flat on B (so it may not be made).
+using FlatTest = std::function<bool(const glm::dvec3&, const glm::dvec3&, const glm::dvec3&)>;
+
+/// Bit of a fracture polygon's side mask: the point lies on B.
+inline constexpr unsigned kOnExterior = 8u;
+
+/// The triangulation of a fracture face's polygon: triangles over polygon indices, where index
+/// polygon.size() stands for `centre` when centre_added.
+struct FracturePolygon {
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  bool centre_added = false;
+  glm::dvec3 centre{0.0};
+};
+
 /// Triangulates a fracture face whose sides carry trace points. `polygon` lists 3D points in
-/// the face's winding; `side_mask` per point: bit k when it lies on side k (a corner on two).
-/// No triangle has all three points on one side. The polygon is projected along its vector
-/// area, which must agree with `normal` (the face's). Returns indices into polygon in its winding.
+/// the face's winding; `side_mask` per point: bit k when it lies on side k (a corner on two),
+/// plus kOnExterior when it lies on B. No triangle has all three points on one side (for one
+/// cut side this is the fan from the opposite corner), and none with all corners on B for
+/// which `flat` holds. When no such triangulation is found (a face with all corners on B whose
+/// traces bend over a crease of B), every side is joined to the centroid of the face's corners
+/// instead. The polygon is projected along its vector area, which must agree with `normal` (the
+/// face's); triangles come in the polygon's winding.
 /// \throw RunError with the reason (the caller names the S face).
-std::vector<std::array<std::uint32_t, 3>> triangulate_fracture_polygon(const std::vector<glm::dvec3>& polygon,
-                                                                       const std::vector<unsigned>& side_mask,
-                                                                       const glm::dvec3& normal);
+FracturePolygon triangulate_fracture_polygon(const std::vector<glm::dvec3>& polygon, const std::vector<unsigned>& side_mask,
+                                             const glm::dvec3& normal, const FlatTest& flat = {});
 
 /// The cut of B: the points the traces put on B and the segments between them. Point ids are
 /// the global vertex ids of PieceSet::positions.
@@ -115,6 +134,7 @@ struct ExteriorCut {
   struct Segment {
     std::uint32_t from = 0, to = 0;  ///< global ids
     std::uint32_t face = 0;          ///< the B triangle the walk crossed
+    std::uint32_t s_from = 0, s_to = 0;  ///< the S boundary edge it traces
   };
   std::vector<Segment> segments;
 };
@@ -124,6 +144,19 @@ struct ExteriorCut {
 /// \throw RunError naming the B triangle when its cut cannot be triangulated.
 std::vector<std::array<std::uint32_t, 3>> cut_exterior(const ExteriorMesh& m, ExteriorCut& cut,
                                                        const std::vector<glm::dvec3>& positions, bool delaunay);
+
+struct RepairReport {
+  std::uint32_t collapsed = 0;      ///< boundary edges contracted
+  std::uint32_t flaps_removed = 0;  ///< faces lying flat on B removed
+  std::vector<std::uint32_t> face_origin;  ///< per face of the result, its face in the input
+};
+
+/// S with every boundary edge shorter than `min_edge` contracted (shortest first; the end that
+/// is kVertexOriginal, else the lower id, is kept) and, when `flaps`, every face with two or
+/// three boundary edges whose centroid lies within 0.01 x its longest edge + `tolerance` of B
+/// removed. An edit that would make S invalid (validate()) is skipped. Vertex ids are kept.
+FractureSurface repair_boundary(const FractureSurface& s, const ExteriorMesh& m, double min_edge, bool flaps,
+                                double tolerance, RepairReport& report);
 
 /// "(x, y, z)" with 9 significant digits, for messages.
 std::string format_point(const glm::dvec3& p);

@@ -1,0 +1,116 @@
+// Repairs of S at its boundary that no cut of B can work around: boundary vertices a hair apart
+// (a face between them and a trace over a crease of B would have to lie in B) and flaps (faces
+// with two boundary edges lying flat on B). Each edit is kept only when S stays valid.
+#include <algorithm>
+#include <cmath>
+
+#include "pieces/pieces_internal.hpp"
+#include "surface/fracture_surface.hpp"
+
+namespace fracref::pieces_detail {
+namespace {
+
+// S with new faces, if the result is valid.
+bool try_faces(FractureSurface& s, std::vector<glm::uvec4> faces, std::vector<glm::ivec2> pieces,
+               std::vector<std::uint32_t>& origin, std::vector<std::uint32_t> new_origin) {
+  FractureSurface candidate = s;
+  candidate.faces = std::move(faces);
+  candidate.face_pieces = std::move(pieces);
+  rebuild_adjacency(candidate);
+  if (!validate(candidate).empty()) return false;
+  s = std::move(candidate);
+  origin = std::move(new_origin);
+  return true;
+}
+
+// Boundary edge a-b contracted into one of its ends: the faces on it vanish, the others of the
+// removed end move to the kept one.
+bool collapse(FractureSurface& s, std::vector<std::uint32_t>& origin, std::uint32_t a, std::uint32_t b) {
+  const bool keep_b = (s.vertex_flags[b] & kVertexOriginal) && !(s.vertex_flags[a] & kVertexOriginal);
+  const std::uint32_t keep = keep_b ? b : a, gone = keep_b ? a : b;
+  std::vector<glm::uvec4> faces;
+  std::vector<glm::ivec2> pieces;
+  std::vector<std::uint32_t> new_origin;
+  for (std::size_t f = 0; f < s.faces.size(); ++f) {
+    glm::uvec4 t = s.faces[f];
+    for (int k = 0; k < 3; ++k)
+      if (t[k] == gone) t[k] = keep;
+    if (t.x == t.y || t.y == t.z || t.z == t.x) continue;
+    faces.push_back(t);
+    pieces.push_back(s.face_pieces[f]);
+    new_origin.push_back(origin[f]);
+  }
+  return try_faces(s, std::move(faces), std::move(pieces), origin, std::move(new_origin));
+}
+
+bool remove_face(FractureSurface& s, std::vector<std::uint32_t>& origin, std::uint32_t face) {
+  std::vector<glm::uvec4> faces = s.faces;
+  std::vector<glm::ivec2> pieces = s.face_pieces;
+  std::vector<std::uint32_t> new_origin = origin;
+  faces.erase(faces.begin() + face);
+  pieces.erase(pieces.begin() + face);
+  new_origin.erase(new_origin.begin() + face);
+  return try_faces(s, std::move(faces), std::move(pieces), origin, std::move(new_origin));
+}
+
+glm::dvec3 at(const FractureSurface& s, std::uint32_t v) { return glm::dvec3(glm::vec3(s.positions[v])); }
+
+// One pass over the boundary edges shorter than min_length, shortest first; true if any went.
+bool collapse_pass(FractureSurface& s, std::vector<std::uint32_t>& origin, double min_length, std::uint32_t& count) {
+  const std::uint32_t before = count;
+  std::vector<std::pair<double, glm::uvec2>> shortest;
+  for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
+    const double len = glm::length(at(s, s.edges[e].x) - at(s, s.edges[e].y));
+    if (s.edge_special[e] == kEdgeBoundary && len < min_length) shortest.emplace_back(len, s.edges[e]);
+  }
+  std::sort(shortest.begin(), shortest.end(), [](const auto& x, const auto& y) {
+    return x.first < y.first || (x.first == y.first && (x.second.x < y.second.x || (x.second.x == y.second.x && x.second.y < y.second.y)));
+  });
+  for (const auto& [len, e] : shortest) {
+    const std::uint32_t id = find_edge(s, e.x, e.y);  // earlier collapses may have removed it
+    if (id == kNoEdge || s.edge_special[id] != kEdgeBoundary) continue;
+    if (collapse(s, origin, e.x, e.y)) ++count;
+  }
+  return count != before;
+}
+
+// Passes until none collapses: a collapse can make a neighbouring boundary edge short.
+void collapse_short_edges(FractureSurface& s, std::vector<std::uint32_t>& origin, double min_length,
+                          std::uint32_t& count) {
+  while (collapse_pass(s, origin, min_length, count)) {
+  }
+}
+
+// A face with two or three boundary edges whose centroid lies on B lies flat on B.
+bool is_flap(const FractureSurface& s, const ExteriorMesh& m, std::uint32_t f, double tolerance) {
+  int boundary = 0;
+  for (int k = 0; k < 3; ++k) boundary += s.edge_special[s.face_edges[3 * f + k]] == kEdgeBoundary;
+  if (boundary < 2) return false;
+  const glm::dvec3 a = at(s, s.faces[f].x), b = at(s, s.faces[f].y), c = at(s, s.faces[f].z);
+  const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+  const double distance = std::sqrt(closest_point(m.bvh, (a + b + c) / 3.0).squared_distance);
+  return distance <= 0.01 * longest + tolerance;
+}
+
+void remove_flaps(FractureSurface& s, std::vector<std::uint32_t>& origin, const ExteriorMesh& m, double tolerance,
+                  std::uint32_t& count) {
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::uint32_t f = 0; f < s.faces.size() && !changed; ++f)
+      if (is_flap(s, m, f, tolerance) && remove_face(s, origin, f)) changed = true, ++count;
+  }
+}
+
+}  // namespace
+
+FractureSurface repair_boundary(const FractureSurface& s, const ExteriorMesh& m, double min_edge, bool flaps,
+                                double tolerance, RepairReport& report) {
+  FractureSurface out = s;
+  report.face_origin.resize(s.faces.size());
+  for (std::uint32_t f = 0; f < s.faces.size(); ++f) report.face_origin[f] = f;
+  if (min_edge > 0.0) collapse_short_edges(out, report.face_origin, min_edge, report.collapsed);
+  if (flaps) remove_flaps(out, report.face_origin, m, tolerance, report.flaps_removed);
+  return out;
+}
+
+}  // namespace fracref::pieces_detail
