@@ -224,6 +224,77 @@ TEST(PiecesDeterminism, SameInputSameOutput) {
   for (std::size_t p = 0; p < first.pieces.size(); ++p) EXPECT_EQ(first.pieces[p].triangles, second.pieces[p].triangles);
 }
 
+// Refined surfaces come with boundary vertices a hair apart and faces lying flat on B; both are
+// repaired before the cut.
+TEST(PiecesRepair, HairShortBoundaryEdgeIsContracted) {
+  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
+  const FractureSurface sheet = example_sheet(4);
+  std::vector<glm::vec4> positions = sheet.positions;
+  std::vector<glm::uvec4> faces = sheet.faces;
+  std::vector<glm::ivec2> pieces = sheet.face_pieces;
+  // Face (v1, v2, r) on the boundary edge y = 0 from (1,0,0) to (2,0,0) gets a vertex w a hair
+  // before v2: (v1, w, r) and the sliver (w, v2, r).
+  const auto at = [&](glm::vec3 p) {
+    return std::uint32_t(std::find(positions.begin(), positions.end(), glm::vec4(p, 1.0f)) - positions.begin());
+  };
+  const std::uint32_t v1 = at({1, 0, 0}), v2 = at({2, 0, 0}), w = std::uint32_t(positions.size());
+  positions.emplace_back(2.0f - 1e-6f, 0.0f, 0.0f, 1.0f);
+  bool split = false;
+  for (std::size_t f = 0; f < faces.size() && !split; ++f)
+    for (int k = 0; k < 3; ++k)
+      if (faces[f][k] == v1 && faces[f][(k + 1) % 3] == v2) {
+        const std::uint32_t r = faces[f][(k + 2) % 3];
+        faces[f] = glm::uvec4(v1, w, r, 0);
+        faces.emplace_back(w, v2, r, 0);
+        pieces.push_back(pieces[f]);
+        split = true;
+        break;
+      }
+  ASSERT_TRUE(split);
+  const FractureSurface s = make_fracture_surface(positions, faces, pieces, 2);
+  const PieceSet set = build_pieces(s, b);
+  EXPECT_EQ(set.boundary_edges_merged, 1u);
+  EXPECT_EQ(set.flaps_removed, 0u);
+  EXPECT_NEAR(piece_volume(set, 0), 9.0, 1e-12);
+  expect_valid_pieces(set, b);
+}
+
+TEST(PiecesRepair, FlapLyingOnExteriorIsLeftOut) {
+  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
+  const FractureSurface sheet = example_sheet(4);
+  std::vector<glm::vec4> positions = sheet.positions;
+  std::vector<glm::uvec4> faces = sheet.faces;
+  std::vector<glm::ivec2> pieces = sheet.face_pieces;
+  // A flap folded up onto the box face y = 0 from the boundary edge (1,0,0)-(2,0,0).
+  std::uint32_t v1 = 0, v2 = 0;
+  for (std::uint32_t v = 0; v < positions.size(); ++v) {
+    if (positions[v] == glm::vec4(1, 0, 0, 1)) v1 = v;
+    if (positions[v] == glm::vec4(2, 0, 0, 1)) v2 = v;
+  }
+  const std::uint32_t tip = std::uint32_t(positions.size());
+  positions.emplace_back(1.5f, 0.0f, 0.5f, 1.0f);
+  faces.emplace_back(v2, v1, tip, 0);  // continues the sheet's winding across v1-v2
+  pieces.emplace_back(1, 0);
+  const FractureSurface s = make_fracture_surface(positions, faces, pieces, 2);
+  ASSERT_EQ(validate(s), "");
+  const PieceSet set = build_pieces(s, b);
+  EXPECT_EQ(set.flaps_removed, 1u);
+  EXPECT_EQ(count_inside(set.pieces[0], 1), sheet.faces.size() + 4);  // as PlanarSheetInTwelveTriangleBox
+  expect_valid_pieces(set, b);
+}
+
+TEST(PiecesErrors, InvalidSurfaceIsRunError) {
+  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
+  FractureSurface s = example_sheet(4);
+  s.face_pieces[3] = glm::ivec2(0, 1);  // flipped pieces, winding kept: the sides disagree
+  try {
+    build_pieces(s, b);
+    FAIL() << "expected a RunError";
+  } catch (const RunError& e) {
+    EXPECT_NE(std::string(e.what()).find("the fracture surface is not valid: "), std::string::npos) << e.what();
+  }
+}
+
 TEST(PiecesErrors, BoundaryVertexFarFromExterior) {
   const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
   FractureSurface s = example_sheet(4);
