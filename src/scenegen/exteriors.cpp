@@ -7,12 +7,6 @@
 
 namespace fracref::scenegen_detail {
 
-glm::dvec3 Rng::direction() {
-  const double z = uniform(-1.0, 1.0), phi = uniform(0.0, 2.0 * std::numbers::pi);
-  const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-  return {r * std::cos(phi), r * std::sin(phi), z};
-}
-
 TriMesh make_cylinder(double radius, double length, int segments, int rings) {
   TriMesh m;
   const auto ring_vertex = [segments](int k, int j) { return std::uint32_t(k * segments + (j % segments)); };

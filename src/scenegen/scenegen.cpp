@@ -14,20 +14,61 @@
 namespace fracref {
 namespace scenegen_detail {
 
-Json scene_json(const SceneSetup& setup, const SceneText& text, const Json& animation) {
-  Json fracture = {{"kind", "tets"}, {"mesh", text.mesh}};
-  if (!text.cracks.empty()) fracture["cracks"] = text.cracks;
+namespace {
+
+struct SceneText {
+  const char* name;
+  const char* title;
+  const char* comment;
+  const char* field;
+  glm::ivec3 resolution;
+};
+
+// The paper's section 6.
+constexpr SceneText kScenes[] = {
+    {"bunny", "marble bunny",
+     "The paper's marble bunny: a tet fracture of the Stanford bunny falling apart, refined in a 50^3 marble field "
+     "(paper: 256 -> 174K triangles).",
+     "marble", {50, 50, 50}},
+    {"branch", "tree branch",
+     "The paper's tree branch: an incomplete cut in the middle of a cylinder, completed by virtual fracture, refined "
+     "in a 32x32x64 branch field (paper: 60 -> 123K triangles).",
+     "branch", {32, 32, 64}},
+    {"wall", "collapsing brick wall",
+     "The paper's collapsing wall: a wrecking ball knocks pieces out of a brick wall, refined in a 150x50x10 brick "
+     "field (paper: 204 -> 208K triangles).",
+     "brick", {150, 50, 10}},
+    {"clay", "twisted plastic clay",
+     "The paper's plastic clay: large twisting, plastic deformation before it tears, refined in a 32x64x64 fBm field "
+     "(paper: 510 -> 40K triangles).",
+     "fbm", {32, 64, 64}},
+    {"jello", "Jell-O with fruit cubes",
+     "The paper's Jell-O: elastic bouncing and gradual fracture, refined in a 64x64x32 field of hard inclusions in soft "
+     "jelly (paper: 488 -> 32K triangles).",
+     "inclusions", {64, 64, 32}},
+};
+
+}  // namespace
+
+Json scene_json(const SceneSetup& setup, const Json& animation, const std::string& cracks) {
+  const SceneText* text = &kScenes[0];
+  for (const SceneText& t : kScenes)
+    if (setup.name == t.name) text = &t;
+  std::size_t refined = 0;
+  for (const DemoTarget& t : demo_scene_targets())
+    if (t.name == setup.name) refined = t.refined_triangles;
+  Json fracture = {{"kind", "tets"}, {"mesh", setup.name + "_coarse.mesh"}};
+  if (!cracks.empty()) fracture["cracks"] = cracks;
   fracture["virtual_fracture"] = true;
   Json j;
-  j["comment"] = text.comment;
-  j["name"] = text.title;
-  j["exterior"] = text.exterior;
+  j["comment"] = text->comment;
+  j["name"] = text->title;
+  j["exterior"] = setup.name + ".obj";
   j["fracture"] = fracture;
   j["animation"] = animation;
-  j["field"] = {{"type", text.field},
-                {"resolution", {text.resolution.x, text.resolution.y, text.resolution.z}},
-                {"seed", setup.seed}};
-  j["refine"] = {{"max_triangles", text.max_triangles}, {"seed", setup.seed}};
+  const glm::ivec3 r = text->resolution;
+  j["field"] = {{"type", text->field}, {"resolution", {r.x, r.y, r.z}}, {"seed", setup.seed}};
+  j["refine"] = {{"max_triangles", refined}, {"seed", setup.seed}};
   return j;
 }
 

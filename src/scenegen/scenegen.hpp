@@ -3,12 +3,25 @@
 // fracref - the exterior mesh (OBJ), the coarse labelled tetrahedral mesh (MEDIT .mesh), an
 // optional cracks file, the coarse animation (frame files + parent map, or rigid transforms) -
 // and a scene JSON referencing them with relative paths. The coarse fracture is made as a
-// simulator would leave it: a cube-split (Freudenthal) lattice over the exterior's box, tets kept
-// by centroid inside the exterior, hull vertices projected onto it, pieces labelled by seeded
-// Voronoi cells (or a planar crack for the branch), sized so that the coarse fracture surface has
-// about the paper's triangle count (demo_scene_targets()).
+// simulator would leave it, with its hull vertices on the exterior:
+//  - bunny: isosurface stuffing of the npm bunny on a Kuhn lattice (a tenth of its size per
+//    cube), seeded Voronoi pieces; rigid pieces that burst apart and fall;
+//  - branch: a structured cylinder, ONE labelled piece and a cracks file covering the middle
+//    cross-section above a (seeded) front at y in [-0.4, -0.2], completed by virtual fracture;
+//    frames that bend it, then open the crack about its front (backward remeshing: the crack's
+//    duplicated vertices appear at frame 20);
+//  - wall: a box lattice, Voronoi pieces smaller near the wrecking ball's impact; rigid pieces
+//    knocked out and falling, the rest standing;
+//  - clay: a box lattice mapped onto a rounded box, Voronoi pieces; frames twisting it about its
+//    long axis, the pieces tearing off late (frames 30-44);
+//  - jello: a box lattice, Voronoi pieces; frames bouncing it with squash and stretch, the
+//    pieces breaking off one by one (frames 14-44).
+// The number of Voronoi sites is chosen so that the coarse fracture surface has about the
+// paper's triangle count (demo_scene_targets()); a piece layout is cleaned so that every piece
+// is a connected 2-manifold solid and every cut meets the exterior in one face per hull edge.
 //
-// Deterministic: the same name, options and build give the same files byte for byte.
+// Deterministic: the same name, options and build give the same files byte for byte (numbers
+// are written in their shortest round-trip form).
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -38,11 +51,13 @@ std::vector<std::string> demo_scene_names();
 std::vector<DemoTarget> demo_scene_targets();
 
 /// Writes the demo scene `name` into `folder` (created if missing; files of the same names are
-/// replaced, other files are left alone) and returns the path of its scene file,
-/// `folder/<name>.json`. Files written (paths in the scene are relative to `folder`):
-///   <name>.obj (exterior; bunny.obj is a copy of options.bunny_obj), <name>_coarse.mesh,
-///   branch only: branch_cracks.txt; frames scenes (branch, clay, jello): frames/frame_NNNN.txt
-///   (48 frames) and frames/parents.txt; rigid scenes (bunny, wall): <name>_transforms.txt.
+/// replaced, other files are left alone, so all five fit in one folder) and returns the path of
+/// its scene file, `folder/<name>.json`. Files written (paths in the scene are relative):
+///   <name>.obj (the exterior; bunny.obj is a byte copy of options.bunny_obj),
+///   <name>_coarse.mesh, branch_cracks.txt (branch only),
+///   frames scenes (branch, clay, jello): <name>_frames/frame_0000.txt .. frame_0047.txt and
+///   <name>_frames/parents.txt; rigid scenes (bunny, wall): <name>_transforms.txt.
+/// 48 frames at 24 fps. The field's and the refiner's seeds are options.seed.
 /// The scene loads with load_scene + load_tet_model + load_frames / load_rigid.
 /// \throw InputError for an unknown name (listing the known ones), and for bunny when
 ///        options.bunny_obj is empty, missing or not a closed mesh (naming the file).

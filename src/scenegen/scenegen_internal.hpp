@@ -64,7 +64,7 @@ TriMesh make_box(const glm::dvec3& lo, const glm::dvec3& hi, const glm::ivec3& c
 double mesh_volume(const TriMesh& mesh);
 
 // ------------------------------------------------------------------------------------------------
-// The coarse tet mesh, lattice.cpp
+// Coarse tet meshes: lattice.cpp (tet sets, the Kuhn lattice), cylinder.cpp, stuffing.cpp
 
 /// Tets on their vertices, each positively oriented (det[b-a, c-a, d-a] > 0).
 struct TetSet {
@@ -80,6 +80,7 @@ struct TetFaces {
   std::vector<std::uint32_t> hull_tet;
 };
 
+/// \throw RunError when a face is shared by more than two tets.
 TetFaces tet_faces(const TetSet& set);
 
 /// Where a closed triangle surface is not a 2-manifold: edges used by more than two faces, as
@@ -139,11 +140,13 @@ std::vector<glm::dvec3> spread_sites(const TetSet& set, int count, Rng& rng,
 /// Per tet, the nearest site's index.
 std::vector<int> voronoi_labels(const TetSet& set, const std::vector<glm::dvec3>& sites);
 
-/// Makes the labels a clean piece layout: every label's tets face-connected (parts get labels of
-/// their own, parts of fewer than `min_tets` tets join the neighbour they share most faces with)
-/// and every piece a 2-manifold solid (the tets around an edge or vertex where a piece would
-/// touch itself take the label most of them have), renumbered 0, 1, ... by lowest tet.
-/// \throw RunError when the layout does not settle.
+/// Makes the labels a clean piece layout, renumbered 0, 1, ... by lowest tet: every label's tets
+/// face-connected (parts get labels of their own; parts of fewer than `min_tets` tets join the
+/// neighbour they share most faces with); every piece a 2-manifold solid; and at most one cut
+/// face at each hull edge (the loader could not tell which pieces lie between two). At such a
+/// defect (an edge or vertex) the tets around it take the label most of them have, after ten
+/// rounds the lowest label among them (so that alternating fixes end).
+/// \throw RunError when the layout does not settle in 1000 rounds.
 void tidy_labels(const TetSet& set, const TetFaces& faces, std::vector<int>& labels, std::size_t min_tets);
 
 /// Interior faces whose two tets have different labels.
@@ -180,22 +183,27 @@ Duplication duplicate_vertices(TetSet& set, const std::vector<int>& tet_group, c
 /// Shortest decimal text that reads back as the same double (locale-free).
 void append_number(std::string& out, double value);
 
+/// The files of scenes/INPUTS.md, written with write_file_atomic (\throw RunError on failure).
 void write_obj(const std::filesystem::path& path, const TriMesh& mesh, const std::string& comment);
+/// MEDIT .mesh (1-based indices); labels[t] is tet t's reference (its piece label).
 void write_medit(const std::filesystem::path& path, const TetSet& set, const std::vector<int>& labels);
+/// A cracks file: `a b c` per face, 0-based.
 void write_faces(const std::filesystem::path& path, const std::vector<glm::uvec3>& faces, const std::string& comment);
 /// One text frame: `x y z` per vertex.
 void write_frame(const std::filesystem::path& path, const std::vector<glm::dvec3>& points);
 /// `v parent` for every vertex whose parent is not itself.
 void write_parent_map(const std::filesystem::path& path, const std::vector<std::uint32_t>& parent);
-/// Per frame, per piece, the rigid transform x' = R x + t (columns of R in rotation[f][p]).
+/// A piece's rigid transform x' = R x + t.
 struct RigidTransform {
   glm::dmat3 rotation{1.0};
   glm::dvec3 translation{0.0};
 };
+/// `frame piece r00 r01 r02 t0 r10 ...` for frames[frame][piece].
 void write_rigid(const std::filesystem::path& path, const std::vector<std::vector<RigidTransform>>& frames);
 
 /// Rotation by `angle` radians about the unit `axis`.
 glm::dmat3 rotation(const glm::dvec3& axis, double angle);
+/// 3x^2 - 2x^3 of x clamped to [0, 1].
 double smoothstep01(double x);
 
 }  // namespace fracref::scenegen_detail

@@ -24,18 +24,12 @@ struct SceneSetup {
   std::uint64_t seed = 1;
 };
 
-/// What goes into the scene file besides the animation.
-struct SceneText {
-  std::string title, comment;
-  std::string exterior, mesh, cracks;  ///< file names in the folder ("" cracks = none)
-  std::string field;                   ///< field type
-  glm::ivec3 resolution{2, 2, 2};
-  std::size_t max_triangles = 200000;
-};
-
-/// The scene JSON (keys of scenes/SCHEMA.md; weights, pyramid and most refine keys left to
-/// their defaults).
-Json scene_json(const SceneSetup& setup, const SceneText& text, const Json& animation);
+/// The scene JSON of scene `setup.name` (keys of scenes/SCHEMA.md): its title and comment,
+/// `<name>.obj` as the exterior, `<name>_coarse.mesh` as the tets, `cracks` ("" = none), the
+/// animation, the paper's field and grid, the paper's refined count as refine.max_triangles and
+/// the seed as the field's and the refiner's; weights, pyramid and the other refine keys keep
+/// their defaults.
+Json scene_json(const SceneSetup& setup, const Json& animation, const std::string& cracks = "");
 
 /// A labelled coarse tet mesh in material space.
 struct PieceLayout {

@@ -44,78 +44,126 @@ glm::dvec3 bend(const glm::dvec3& x, double kappa) {
   return {x.x, -r + rho * std::cos(phi), rho * std::sin(phi)};
 }
 
-}  // namespace
+// The branch's incomplete cut: the faces of the plane z = 0 above y = front, and the vertices
+// that open with it (all of whose plane faces are cut; the front's stay joined).
+struct PlaneCrack {
+  std::vector<glm::uvec3> faces;
+  std::vector<std::uint8_t> opens;
+};
 
-Json make_branch(const SceneSetup& setup) {
-  const TriMesh exterior = make_cylinder(1.0, 8.0, 32, 32);
-  write_obj(setup.folder / "branch.obj", exterior, "tree branch: a capped cylinder, radius 1, length 8 along z");
-  // Rings of 1, 8, 14 and 16 vertices: the cross-section at z = 0 has the paper's 60 triangles.
-  TetSet set = cylinder_tets(1.0, 8.0, {1, 8, 14, 16}, 24);
-  Rng rng(setup.seed ^ 0xb2a7c4ull);
-  const double front = -0.2 - 0.2 * rng.uniform();            // the crack covers y > front
-  const double open_angle = (10.0 + 4.0 * rng.uniform()) * kDegree;
-
-  // The crack: faces of the plane z = 0 above the front. Vertices all of whose plane faces are
-  // cracked are duplicated (the crack opened there); the front's are not.
-  const TetFaces faces = tet_faces(set);
-  std::vector<glm::uvec3> crack;
-  std::vector<std::uint8_t> in_plane(set.positions.size(), 0), uncracked(set.positions.size(), 0);
-  for (const glm::uvec3& f : faces.interior) {
+PlaneCrack plane_crack(const TetSet& set, double front) {
+  PlaneCrack crack;
+  std::vector<std::uint8_t> in_plane(set.positions.size(), 0), joined(set.positions.size(), 0);
+  for (const glm::uvec3& f : tet_faces(set).interior) {
     const glm::dvec3 a = set.positions[f.x], b = set.positions[f.y], c = set.positions[f.z];
     if (a.z != 0.0 || b.z != 0.0 || c.z != 0.0) continue;
-    const bool cracked = (a.y + b.y + c.y) / 3.0 > front;
-    if (cracked) crack.push_back(f);
-    for (int i = 0; i < 3; ++i) {
-      in_plane[f[i]] = 1;
-      if (!cracked) uncracked[f[i]] = 1;
-    }
+    const bool cut = (a.y + b.y + c.y) / 3.0 > front;
+    if (cut) crack.faces.push_back(f);
+    for (int i = 0; i < 3; ++i) in_plane[f[i]] = 1, joined[f[i]] |= !cut;
   }
-  std::vector<std::uint8_t> split(set.positions.size());
-  for (std::size_t v = 0; v < split.size(); ++v) split[v] = in_plane[v] && !uncracked[v];
-  std::vector<int> side(set.tets.size());
-  for (std::uint32_t t = 0; t < set.tets.size(); ++t) side[t] = tet_centroid(set, t).z > 0.0 ? 1 : 0;
-  constexpr int kSnap = 20;
-  const Duplication dup = duplicate_vertices(set, side, {1000, kSnap}, split);
-  write_medit(setup.folder / "branch_coarse.mesh", set, std::vector<int>(set.tets.size(), 0));
-  write_faces(setup.folder / "branch_cracks.txt", crack,
-              "an incomplete cut across the middle of the branch: faces a b c (0-based vertex numbers)");
+  crack.opens.resize(set.positions.size());
+  for (std::size_t v = 0; v < in_plane.size(); ++v) crack.opens[v] = in_plane[v] && !joined[v];
+  return crack;
+}
 
-  // Bends until the snap, then the halves turn apart about the crack front (the uncut fibres
-  // below it hold them together, as in a green branch).
-  const double kappa = 20.0 * kDegree / 4.0;
-  const Motion motion = [=](const glm::dvec3& x, int group, int f) {
+constexpr int kSnap = 20;  // the frame the branch snaps at
+
+// Bends until the snap, then the halves (groups 0: z < 0, 1: z > 0) turn apart about the crack
+// front; the uncut fibres below it (group -1, shared) hold them together, as in a green branch.
+Motion branch_motion(double front, double open_angle) {
+  const double kappa = 20.0 * kDegree / 4.0;  // the ends turn by 20 degrees
+  return [=](const glm::dvec3& x, int group, int f) {
     const double k = kappa * (smoothstep01(f / double(kSnap)) + 0.3 * smoothstep01((f - kSnap) / 27.0));
     const glm::dvec3 p = bend(x, k);
     if (group < 0) return p;
     const double alpha = open_angle * smoothstep01((f - kSnap) / 24.0);
     return rotate_about_x(p, {0.0, front, 0.0}, group == 1 ? alpha : -alpha);
   };
-  const Json animation = write_frames_animation(setup, set, dup, motion);
+}
 
-  SceneText text;
-  text.title = "tree branch";
-  text.comment = "The paper's tree branch (section 6): an incomplete cut in the middle of a cylinder, completed by "
-                 "virtual fracture, refined in a 32x32x64 branch field (paper: 60 -> 123K triangles).";
-  text.exterior = "branch.obj";
-  text.mesh = "branch_coarse.mesh";
-  text.cracks = "branch_cracks.txt";
-  text.field = "branch";
-  text.resolution = {32, 32, 64};
-  text.max_triangles = 123000;
-  return scene_json(setup, text, animation);
+// The clay held at y = -1 and twisted about y (growing angle, plastic: it never springs back),
+// stretching and necking.
+glm::dvec3 twist(const glm::dvec3& x, int f, double turns) {
+  const double s = smoothstep01(f / 40.0), stretch = 1.0 + 0.25 * s, neck = 1.0 / std::sqrt(stretch);
+  const double angle = turns * s * (x.y + 1.0) / 2.0, c = std::cos(angle), n = std::sin(angle);
+  return {neck * (c * x.x + n * x.z), -1.0 + (x.y + 1.0) * stretch, neck * (-n * x.x + c * x.z)};
+}
+
+// A piece that tears off keeps its shape of that moment, spins and flies outward, falling.
+Motion clay_motion(const PieceLayout& layout, const std::vector<int>& leave, double turns) {
+  return [=, centroids = layout.centroids](const glm::dvec3& x, int group, int f) {
+    if (group < 0 || f <= leave[group]) return twist(x, f, turns);
+    const double t = (f - leave[group]) / kFps;
+    const glm::dvec3 c = twist(centroids[group], leave[group], turns);
+    glm::dvec3 out(c.x, 0.0, c.z);
+    out = glm::length(out) > 1e-9 ? glm::normalize(out) : glm::dvec3(1.0, 0.0, 0.0);
+    const glm::dvec3 p = c + rotation({0.0, 1.0, 0.0}, t) * (twist(x, leave[group], turns) - c);
+    return p + 0.6 * t * out + glm::dvec3(0.0, -2.0 * t * t, 0.0);
+  };
+}
+
+// The Jell-O hops on its base (z = 0) with squash and stretch (volume kept) and a decaying wobble.
+glm::dvec3 bounce(const glm::dvec3& x, int f, double hop) {
+  const double t = f / kFps, decay = std::exp(-t / 1.5), w = 2.0 * std::numbers::pi * 0.75;
+  const double height = hop * decay * std::abs(std::cos(w * t)), s = 1.0 + 0.3 * decay * std::cos(2.0 * w * t);
+  const double wobble = 0.08 * decay * std::sin(3.0 * w * t), across = 1.0 / std::sqrt(s);
+  return {across * x.x + wobble * x.z, across * x.y, height + s * x.z};
+}
+
+// A piece that breaks off keeps wobbling while it slides outward and tips over.
+Motion jello_motion(const PieceLayout& layout, const std::vector<int>& leave, double hop) {
+  return [=, centroids = layout.centroids](const glm::dvec3& x, int group, int f) {
+    const glm::dvec3 p = bounce(x, f, hop);
+    if (group < 0 || f <= leave[group]) return p;
+    const double t = (f - leave[group]) / kFps;
+    const glm::dvec3 c = bounce(centroids[group], f, hop);
+    glm::dvec3 out(c.x, c.y, 0.0);
+    out = glm::length(out) > 1e-9 ? glm::normalize(out) : glm::dvec3(1.0, 0.0, 0.0);
+    const glm::dvec3 axis = glm::normalize(glm::cross(glm::dvec3(0.0, 0.0, 1.0), out));
+    return c + rotation(axis, std::min(0.7, 1.5 * t)) * (p - c) + 0.8 * t * out;
+  };
+}
+
+// The labelled mesh as the last frame has it (a copy of every shared vertex per piece, appearing
+// when the piece leaves) and the frames.
+Json write_tearing(const SceneSetup& setup, PieceLayout& layout, const std::vector<int>& leave, const Motion& motion) {
+  const Duplication dup = duplicate_vertices(layout.set, layout.labels, leave, {});
+  write_medit(setup.folder / (setup.name + "_coarse.mesh"), layout.set, layout.labels);
+  return write_frames_animation(setup, layout.set, dup, motion);
+}
+
+}  // namespace
+
+Json make_branch(const SceneSetup& setup) {
+  write_obj(setup.folder / "branch.obj", make_cylinder(1.0, 8.0, 32, 32),
+            "tree branch: a capped cylinder, radius 1, length 8 along z");
+  // Rings of 1, 8, 14 and 16 vertices: the cross-section at z = 0 has the paper's 60 triangles.
+  TetSet set = cylinder_tets(1.0, 8.0, {1, 8, 14, 16}, 24);
+  Rng rng(setup.seed ^ 0xb2a7c4ull);
+  const double front = -0.2 - 0.2 * rng.uniform();  // the crack covers y > front
+  const double open_angle = (10.0 + 4.0 * rng.uniform()) * kDegree;
+  const PlaneCrack crack = plane_crack(set, front);
+  std::vector<int> side(set.tets.size());
+  for (std::uint32_t t = 0; t < set.tets.size(); ++t) side[t] = tet_centroid(set, t).z > 0.0 ? 1 : 0;
+  const Duplication dup = duplicate_vertices(set, side, {1000, kSnap}, crack.opens);
+  write_medit(setup.folder / "branch_coarse.mesh", set, std::vector<int>(set.tets.size(), 0));
+  write_faces(setup.folder / "branch_cracks.txt", crack.faces,
+              "an incomplete cut across the middle of the branch: faces a b c (0-based vertex numbers)");
+  const Json animation = write_frames_animation(setup, set, dup, branch_motion(front, open_angle));
+  return scene_json(setup, animation, "branch_cracks.txt");
 }
 
 Json make_clay(const SceneSetup& setup) {
   const glm::dvec3 lo(-0.5, -1.0, -1.0), hi(0.5, 1.0, 1.0);
   constexpr double kRounding = 0.25;
-  const TriMesh exterior = make_box(lo, hi, {20, 40, 40}, kRounding);
-  write_obj(setup.folder / "clay.obj", exterior, "plastic clay: a rounded box 1 x 2 x 2 (edge radius 0.25)");
-  Rng rng(setup.seed ^ 0xc1a7ull);
+  write_obj(setup.folder / "clay.obj", make_box(lo, hi, {20, 40, 40}, kRounding),
+            "plastic clay: a rounded box 1 x 2 x 2 (edge radius 0.25)");
   // The box lattice mapped onto the rounded box as the exterior is: hull vertices are exterior vertices.
   TetSet set = box_lattice({lo, hi, {5, 10, 10}});
   for (glm::dvec3& p : set.positions) p = rounded_box_map(p, lo, hi, kRounding);
   for (std::uint32_t t = 0; t < set.tets.size(); ++t)
     if (!(tet_volume(set, t) > 0.0)) throw RunError("scenegen: clay: a mapped lattice tet is flat or inverted");
+  Rng rng(setup.seed ^ 0xc1a7ull);
   PieceLayout layout = piece_layout(std::move(set), {510, 6, 14, 8}, rng, [](const glm::dvec3&) { return 1.0; });
   // The bottom (y = -1) is held; the rest tears off late, top pieces first.
   const int main = piece_near(layout, {0.0, -1.0, 0.0});
@@ -123,44 +171,13 @@ Json make_clay(const SceneSetup& setup) {
   std::stable_sort(order.begin(), order.end(),
                    [&](int a, int b) { return layout.centroids[a].y > layout.centroids[b].y; });
   const std::vector<int> leave = detach_frames(layout.pieces, main, order, 30, 44);
-  const Duplication dup = duplicate_vertices(layout.set, layout.labels, leave, {});
-  write_medit(setup.folder / "clay_coarse.mesh", layout.set, layout.labels);
-
-  // Twist about the long axis y with a growing angle (plastic: it never springs back), stretching
-  // and necking; a piece that tears off keeps its shape of that moment and flies outward.
   const double turns = (0.9 + 0.2 * rng.uniform()) * std::numbers::pi;
-  const auto twist = [turns](const glm::dvec3& x, int f) {
-    const double s = smoothstep01(f / 40.0), stretch = 1.0 + 0.25 * s, neck = 1.0 / std::sqrt(stretch);
-    const double angle = turns * s * (x.y + 1.0) / 2.0, c = std::cos(angle), n = std::sin(angle);
-    return glm::dvec3(neck * (c * x.x + n * x.z), -1.0 + (x.y + 1.0) * stretch, neck * (-n * x.x + c * x.z));
-  };
-  const Motion motion = [=](const glm::dvec3& x, int group, int f) {
-    if (group < 0 || f <= leave[group]) return twist(x, f);
-    const double t = (f - leave[group]) / kFps;
-    const glm::dvec3 c = twist(layout.centroids[group], leave[group]);
-    glm::dvec3 out(c.x, 0.0, c.z);
-    out = glm::length(out) > 1e-9 ? glm::normalize(out) : glm::dvec3(1.0, 0.0, 0.0);
-    const glm::dvec3 p = c + rotation({0.0, 1.0, 0.0}, 1.0 * t) * (twist(x, leave[group]) - c);
-    return p + 0.6 * t * out + glm::dvec3(0.0, -2.0 * t * t, 0.0);
-  };
-  const Json animation = write_frames_animation(setup, layout.set, dup, motion);
-
-  SceneText text;
-  text.title = "twisted plastic clay";
-  text.comment = "The paper's plastic clay (section 6): large twisting, plastic deformation before it tears, refined in "
-                 "a 32x64x64 fBm field (paper: 510 -> 40K triangles).";
-  text.exterior = "clay.obj";
-  text.mesh = "clay_coarse.mesh";
-  text.field = "fbm";
-  text.resolution = {32, 64, 64};
-  text.max_triangles = 40000;
-  return scene_json(setup, text, animation);
+  return scene_json(setup, write_tearing(setup, layout, leave, clay_motion(layout, leave, turns)));
 }
 
 Json make_jello(const SceneSetup& setup) {
   const glm::dvec3 lo(-1.0, -1.0, 0.0), hi(1.0, 1.0, 1.0);
-  const TriMesh exterior = make_box(lo, hi, {40, 40, 20});
-  write_obj(setup.folder / "jello.obj", exterior, "Jell-O block 2 x 2 x 1, z up");
+  write_obj(setup.folder / "jello.obj", make_box(lo, hi, {40, 40, 20}), "Jell-O block 2 x 2 x 1, z up");
   Rng rng(setup.seed ^ 0x7e110ull);
   PieceLayout layout = piece_layout(box_lattice({lo, hi, {10, 10, 5}}), {488, 5, 12, 8}, rng,
                                     [](const glm::dvec3&) { return 1.0; });
@@ -169,40 +186,8 @@ Json make_jello(const SceneSetup& setup) {
   std::vector<int> order = others(layout.pieces, main);
   for (std::size_t i = order.size(); i > 1; --i) std::swap(order[i - 1], order[rng.next() % i]);
   const std::vector<int> leave = detach_frames(layout.pieces, main, order, 14, 44);
-  const Duplication dup = duplicate_vertices(layout.set, layout.labels, leave, {});
-  write_medit(setup.folder / "jello_coarse.mesh", layout.set, layout.labels);
-
-  // Bounces on its base with squash and stretch (volume kept) and a decaying wobble; a piece
-  // that breaks off keeps wobbling while it slides outward and tips over.
   const double hop = 0.3 + 0.2 * rng.uniform();
-  const auto bounce = [hop](const glm::dvec3& x, int f) {
-    const double t = f / kFps, decay = std::exp(-t / 1.5), w = 2.0 * std::numbers::pi * 0.75;
-    const double height = hop * decay * std::abs(std::cos(w * t)), s = 1.0 + 0.3 * decay * std::cos(2.0 * w * t);
-    const double wobble = 0.08 * decay * std::sin(3.0 * w * t), across = 1.0 / std::sqrt(s);
-    return glm::dvec3(across * x.x + wobble * x.z, across * x.y, height + s * x.z);
-  };
-  const Motion motion = [=](const glm::dvec3& x, int group, int f) {
-    const glm::dvec3 p = bounce(x, f);
-    if (group < 0 || f <= leave[group]) return p;
-    const double t = (f - leave[group]) / kFps;
-    const glm::dvec3 c = bounce(layout.centroids[group], f);
-    glm::dvec3 out(c.x, c.y, 0.0);
-    out = glm::length(out) > 1e-9 ? glm::normalize(out) : glm::dvec3(1.0, 0.0, 0.0);
-    const glm::dvec3 axis = glm::normalize(glm::cross(glm::dvec3(0.0, 0.0, 1.0), out));
-    return c + rotation(axis, std::min(0.7, 1.5 * t)) * (p - c) + 0.8 * t * out;
-  };
-  const Json animation = write_frames_animation(setup, layout.set, dup, motion);
-
-  SceneText text;
-  text.title = "Jell-O with fruit cubes";
-  text.comment = "The paper's Jell-O (section 6): elastic bouncing and gradual fracture, refined in a 64x64x32 field of "
-                 "hard inclusions in soft jelly (paper: 488 -> 32K triangles).";
-  text.exterior = "jello.obj";
-  text.mesh = "jello_coarse.mesh";
-  text.field = "inclusions";
-  text.resolution = {64, 64, 32};
-  text.max_triangles = 32000;
-  return scene_json(setup, text, animation);
+  return scene_json(setup, write_tearing(setup, layout, leave, jello_motion(layout, leave, hop)));
 }
 
 }  // namespace fracref::scenegen_detail

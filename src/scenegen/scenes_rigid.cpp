@@ -60,29 +60,24 @@ RigidTransform thrown(const glm::dvec3& centroid, int frame, int start, const gl
   return x;
 }
 
-}  // namespace
-
-Json make_bunny(const SceneSetup& setup, const std::filesystem::path& bunny_obj) {
-  const TriMesh exterior = read_bunny(bunny_obj);
-  copy_file_bytes(bunny_obj, setup.folder / "bunny.obj");
+// A lattice of cubes of a tenth of the exterior's longest side, with one cube to spare on
+// every side.
+LatticeSpec padded_lattice(const TriMesh& exterior) {
   LatticeSpec lattice;
   for (const glm::dvec3& p : exterior.positions) {
     lattice.lo = glm::min(lattice.lo, p);
     lattice.hi = glm::max(lattice.hi, p);
   }
   const glm::dvec3 extent = lattice.hi - lattice.lo;
-  // Cubes of a tenth of the longest side, one more on every side than the exterior needs.
   const double h = std::max({extent.x, extent.y, extent.z}) / 10.0;
   lattice.cells = glm::ivec3(glm::ceil(extent / h - 1e-9)) + 2;
   const glm::dvec3 middle = 0.5 * (lattice.lo + lattice.hi), half = 0.5 * h * glm::dvec3(lattice.cells);
   lattice.lo = middle - half, lattice.hi = middle + half;
-  Rng rng(setup.seed ^ 0xb0a4a11ce5ull);
-  PieceLayout layout = piece_layout(stuffed_tets(exterior, lattice, 0.3), {256, 5, 10, 8}, rng,
-                                    [](const glm::dvec3&) { return 1.0; });
-  give_pieces_own_vertices(layout);
-  write_medit(setup.folder / "bunny_coarse.mesh", layout.set, layout.labels);
+  return lattice;
+}
 
-  // The pieces burst apart a little and fall, each spinning slowly.
+// The bunny's pieces burst apart a little and fall, each spinning slowly.
+std::vector<std::vector<RigidTransform>> falling_apart(const PieceLayout& layout, Rng& rng) {
   glm::dvec3 centre(0.0);
   double volume = 0.0;
   for (int p = 0; p < layout.pieces; ++p) centre += layout.volumes[p] * layout.centroids[p], volume += layout.volumes[p];
@@ -96,66 +91,58 @@ Json make_bunny(const SceneSetup& setup, const std::filesystem::path& bunny_obj)
     const double spin = rng.uniform(0.8, 2.0);
     for (int f = 0; f < kFrames; ++f) frames[f][p] = thrown(layout.centroids[p], f, 4, velocity, axis, spin, 12.0);
   }
-  const Json animation = write_rigid_animation(setup, frames);
-
-  SceneText text;
-  text.title = "marble bunny";
-  text.comment = "The paper's marble bunny (section 6): a tet fracture of the Stanford bunny falling apart, refined in a "
-                 "50^3 marble field (paper: 256 -> 174K triangles).";
-  text.exterior = "bunny.obj";
-  text.mesh = "bunny_coarse.mesh";
-  text.field = "marble";
-  text.resolution = {50, 50, 50};
-  text.max_triangles = 174000;
-  return scene_json(setup, text, animation);
+  return frames;
 }
 
-Json make_wall(const SceneSetup& setup) {
-  const glm::dvec3 lo(-1.5, 0.0, -0.1), hi(1.5, 1.0, 0.1);
-  const TriMesh exterior = make_box(lo, hi, {60, 20, 4});
-  write_obj(setup.folder / "wall.obj", exterior, "brick wall 3 x 1 x 0.2, y up");
-  const LatticeSpec lattice{lo, hi, {15, 5, 2}};
-  const glm::dvec3 impact(0.3, 0.45, 0.1);  // the ball hits the front face, moving along -z
-  const auto reach = [impact](const glm::dvec3& p) { return glm::length(glm::dvec2(p.x - impact.x, p.y - impact.y)); };
-  Rng rng(setup.seed ^ 0x3a11b41150ull);
-  // Small pieces near the impact, large ones far from it.
-  PieceLayout layout = piece_layout(box_lattice(lattice), {204, 8, 20, 6}, rng, [&reach](const glm::dvec3& p) {
-    return 0.3 + 0.7 * std::min(1.0, reach(p) / 1.2);
-  });
-  give_pieces_own_vertices(layout);
-  write_medit(setup.folder / "wall_coarse.mesh", layout.set, layout.labels);
+constexpr double kReach = 0.8;                   // of the wrecking ball, around its impact
+const glm::dvec3 kImpact(0.3, 0.45, 0.1);        // on the wall's front face; the ball moves along -z
 
-  // Pieces within the ball's reach fly off (faster near the impact); the pieces above the hole
-  // lose their support and fall a little later; the rest of the wall stands.
-  constexpr double kReach = 0.8;
+double reach(const glm::dvec3& p) { return glm::length(glm::dvec2(p.x - kImpact.x, p.y - kImpact.y)); }
+
+// Pieces within the ball's reach fly off (faster near the impact); the pieces above the hole lose
+// their support and fall a little later; the rest of the wall stands.
+std::vector<std::vector<RigidTransform>> knocked_out(const PieceLayout& layout, Rng& rng) {
   std::vector<std::vector<RigidTransform>> frames(kFrames, std::vector<RigidTransform>(layout.pieces));
   for (int p = 0; p < layout.pieces; ++p) {
     const glm::dvec3 c = layout.centroids[p];
-    const double d = reach(c);
-    glm::dvec3 side(c.x - impact.x, c.y - impact.y, 0.0);
+    glm::dvec3 side(c.x - kImpact.x, c.y - kImpact.y, 0.0);
     side = glm::length(side) > 1e-9 ? glm::normalize(side) : glm::dvec3(0.0);
     const glm::dvec3 axis = rng.direction();
-    if (d < kReach) {
-      const double speed = 1.0 + 4.0 * (1.0 - d / kReach);
+    if (reach(c) < kReach) {
+      const double speed = 1.0 + 4.0 * (1.0 - reach(c) / kReach);
       const glm::dvec3 velocity = speed * glm::normalize(glm::dvec3(0.0, 0.0, -1.0) + 0.5 * side);
       for (int f = 0; f < kFrames; ++f) frames[f][p] = thrown(c, f, 6, velocity, axis, 1.5 * speed, 9.81);
-    } else if (c.y > impact.y && std::abs(c.x - impact.x) < kReach) {
+    } else if (c.y > kImpact.y && std::abs(c.x - kImpact.x) < kReach) {
       const double spin = rng.uniform(0.2, 0.8);
       for (int f = 0; f < kFrames; ++f) frames[f][p] = thrown(c, f, 12, glm::dvec3(0.0), axis, spin, 9.81);
     }
   }
-  const Json animation = write_rigid_animation(setup, frames);
+  return frames;
+}
 
-  SceneText text;
-  text.title = "collapsing brick wall";
-  text.comment = "The paper's collapsing wall (section 6): a wrecking ball knocks pieces out of a brick wall, refined in "
-                 "a 150x50x10 brick field (paper: 204 -> 208K triangles).";
-  text.exterior = "wall.obj";
-  text.mesh = "wall_coarse.mesh";
-  text.field = "brick";
-  text.resolution = {150, 50, 10};
-  text.max_triangles = 208000;
-  return scene_json(setup, text, animation);
+}  // namespace
+
+Json make_bunny(const SceneSetup& setup, const std::filesystem::path& bunny_obj) {
+  const TriMesh exterior = read_bunny(bunny_obj);
+  copy_file_bytes(bunny_obj, setup.folder / "bunny.obj");
+  Rng rng(setup.seed ^ 0xb0a4a11ce5ull);
+  PieceLayout layout = piece_layout(stuffed_tets(exterior, padded_lattice(exterior), 0.3), {256, 5, 10, 8}, rng,
+                                    [](const glm::dvec3&) { return 1.0; });
+  give_pieces_own_vertices(layout);
+  write_medit(setup.folder / "bunny_coarse.mesh", layout.set, layout.labels);
+  return scene_json(setup, write_rigid_animation(setup, falling_apart(layout, rng)));
+}
+
+Json make_wall(const SceneSetup& setup) {
+  const glm::dvec3 lo(-1.5, 0.0, -0.1), hi(1.5, 1.0, 0.1);
+  write_obj(setup.folder / "wall.obj", make_box(lo, hi, {60, 20, 4}), "brick wall 3 x 1 x 0.2, y up");
+  Rng rng(setup.seed ^ 0x3a11b41150ull);
+  // Small pieces near the impact, large ones far from it.
+  PieceLayout layout = piece_layout(box_lattice({lo, hi, {15, 5, 2}}), {204, 8, 20, 6}, rng,
+                                    [](const glm::dvec3& p) { return 0.3 + 0.7 * std::min(1.0, reach(p) / 1.2); });
+  give_pieces_own_vertices(layout);
+  write_medit(setup.folder / "wall_coarse.mesh", layout.set, layout.labels);
+  return scene_json(setup, write_rigid_animation(setup, knocked_out(layout, rng)));
 }
 
 }  // namespace fracref::scenegen_detail

@@ -1,6 +1,8 @@
-// The demo's input files, in the formats of scenes/INPUTS.md, written atomically.
+// The demo's input files, in the formats of scenes/INPUTS.md, written atomically; small math.
 #include <charconv>
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <system_error>
 
 #include "scenegen/scenegen_internal.hpp"
@@ -98,6 +100,12 @@ void write_rigid(const std::filesystem::path& path, const std::vector<std::vecto
       out += '\n';
     }
   write_file_atomic(path, out);
+}
+
+glm::dvec3 Rng::direction() {
+  const double z = uniform(-1.0, 1.0), phi = uniform(0.0, 2.0 * std::numbers::pi);
+  const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+  return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
 glm::dmat3 rotation(const glm::dvec3& axis, double angle) {
