@@ -18,18 +18,6 @@ Action not_yet(const std::string& what) {
 
 }  // namespace
 
-void add_bench_command(CLI::App& app, Action& action) {
-  CLI::App* sub = app.add_subcommand("bench", "Benchmark the CPU and Vulkan backends on the paper's scenes");
-  sub->allow_extras();
-  sub->callback([&action] { action = not_yet("bench"); });
-}
-
-void add_batch_command(CLI::App& app, Action& action) {
-  CLI::App* sub = app.add_subcommand("batch", "Run many refinement jobs from a manifest (resumable)");
-  sub->allow_extras();
-  sub->callback([&action] { action = not_yet("batch"); });
-}
-
 void add_check_command(CLI::App& app, Action& action) {
   CLI::App* sub = app.add_subcommand("check", "Re-verify an output folder (closed, manifold, partition, frames)");
   sub->allow_extras();

@@ -1,0 +1,91 @@
+// The scene half of `fracref bench`: whole jobs, interleaved over repeats, scenes and backends.
+#include <algorithm>
+#include <map>
+
+#include "batch/bench.hpp"
+#include "scene/scene.hpp"
+
+namespace fracref {
+namespace fs = std::filesystem;
+namespace {
+
+using nlohmann::ordered_json;
+
+void add_seconds(const ordered_json& seconds, const char* key, std::vector<double>& to) {
+  if (seconds.contains(key) && seconds[key].is_number()) to.push_back(seconds[key].get<double>());
+}
+
+std::optional<std::uint64_t> count_of(const ordered_json& report, const char* key) {
+  if (report.contains(key) && report[key].is_number_unsigned()) return report[key].get<std::uint64_t>();
+  return std::nullopt;
+}
+
+/// One run of `scene` on `backend` into a fresh folder under `scratch`, recorded in `r`.
+void run_once(const Scene& scene, const BenchBackend& backend, const SceneBenchOptions& o, const std::string& tag,
+              SceneBenchResult& r) {
+  const fs::path out = o.scratch / tag;
+  fs::remove_all(out);
+  fs::create_directories(out);
+  struct Remove {
+    fs::path p;
+    ~Remove() {
+      std::error_code ec;
+      fs::remove_all(p, ec);
+    }
+  } remove{out};
+  JobOptions jo;
+  jo.stop_after = o.stop_after;
+  const ordered_json report = run_job(scene, out, *backend.backend, jo);
+  const ordered_json& s = report["seconds"];
+  add_seconds(s, "setup", r.setup);
+  add_seconds(s, "refine", r.refine);
+  add_seconds(s, "pieces", r.pieces);
+  add_seconds(s, "total", r.total);
+  r.coarse_triangles = count_of(report, "coarse_triangles");
+  r.refined_triangles = count_of(report, "refined_triangles");
+  if (report.contains("iterations") && report["iterations"].is_array()) r.iterations = report["iterations"].size();
+}
+
+}  // namespace
+
+std::optional<double> paper_seconds(const std::string& scene) {
+  static const std::map<std::string, double> kPaper = {
+      {"bunny", 11.7}, {"branch", 5.0}, {"wall", 13.6}, {"clay", 3.0}, {"jello", 3.0}};
+  auto it = kPaper.find(scene);
+  return it == kPaper.end() ? std::nullopt : std::optional<double>(it->second);
+}
+
+std::vector<SceneBenchResult> bench_scenes(const std::vector<BenchScene>& scenes, const std::vector<BenchBackend>& backends,
+                                           const SceneBenchOptions& o) {
+  std::vector<SceneBenchResult> results;
+  std::vector<std::optional<Scene>> loaded(scenes.size());
+  for (std::size_t s = 0; s < scenes.size(); ++s)
+    for (const BenchBackend& b : backends) {
+      SceneBenchResult r;
+      r.scene = scenes[s].name;
+      r.backend = b.key;
+      r.backend_name = b.backend ? b.backend->name() : b.key;
+      if (!b.backend) r.error = "unavailable: " + b.unavailable;
+      results.push_back(r);
+    }
+  const std::size_t runs = std::max<std::size_t>(1, std::size_t(o.repeat) * results.size());
+  std::size_t done = 0;
+  for (int rep = 0; rep < o.repeat; ++rep)
+    for (std::size_t s = 0; s < scenes.size(); ++s)
+      for (std::size_t b = 0; b < backends.size(); ++b, ++done) {
+        SceneBenchResult& r = results[s * backends.size() + b];
+        if (!r.error.empty()) continue;
+        const std::string tag = scenes[s].name + "-" + backends[b].key + "-" + std::to_string(rep + 1);
+        if (o.progress) o.progress(tag, double(done) / double(runs));
+        try {
+          if (!loaded[s]) loaded[s] = load_scene(scenes[s].scene_file);
+          run_once(*loaded[s], backends[b], o, tag, r);
+        } catch (const std::exception& e) {
+          r.error = e.what();
+        }
+      }
+  if (o.progress) o.progress("scenes done", 1.0);
+  return results;
+}
+
+}  // namespace fracref
