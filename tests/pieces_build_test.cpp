@@ -308,10 +308,19 @@ TEST(PiecesErrors, BoundaryVertexFarFromExterior) {
   }
 }
 
-TEST(PiecesErrors, OpenExteriorIsInputError) {
+TEST(PiecesErrors, OpenOrInwardExteriorIsInputError) {
   MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
-  b.triangles.pop_back();
-  EXPECT_THROW(build_pieces(example_sheet(4), b), InputError);
+  MeshSoup open = b;
+  open.triangles.pop_back();
+  EXPECT_THROW(build_pieces(example_sheet(4), open), InputError);
+  MeshSoup inward = b;
+  for (auto& t : inward.triangles) std::swap(t[1], t[2]);
+  try {
+    build_pieces(example_sheet(4), inward);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("wound inward"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -16,10 +16,19 @@ using DirectedEdge = std::pair<std::uint32_t, std::uint32_t>;
 
 std::string vertex_pair(std::uint32_t a, std::uint32_t b) { return std::to_string(a) + "-" + std::to_string(b); }
 
-const FractureSurface& checked(const FractureSurface& s) {
-  const std::string problem = validate(s);
+// S with its derived arrays rebuilt (a caller may hand it over stale), if its invariants hold.
+FractureSurface checked(const FractureSurface& s) {
+  for (std::size_t f = 0; f < s.faces.size(); ++f) {
+    const glm::uvec4 t = s.faces[f];
+    const bool bad = t.x >= s.positions.size() || t.y >= s.positions.size() || t.z >= s.positions.size() ||
+                     t.x == t.y || t.y == t.z || t.z == t.x;
+    if (bad) throw RunError("the fracture surface is not valid: " + validate(s));
+  }
+  FractureSurface copy = s;
+  rebuild_adjacency(copy);
+  const std::string problem = validate(copy);
   if (!problem.empty()) throw RunError("the fracture surface is not valid: " + problem);
-  return s;
+  return copy;
 }
 
 class PieceBuilder {
@@ -176,39 +185,44 @@ class PieceBuilder {
     }
   }
 
+  // Face f's corners with the inner trace points of its boundary sides, in its winding, and
+  // their side masks (see triangulate_fracture_polygon).
+  void fracture_polygon(std::uint32_t f, std::vector<std::uint32_t>& polygon, std::vector<unsigned>& mask) const {
+    for (int k = 0; k < 3; ++k) {
+      polygon.push_back(s_.faces[f][k]);
+      mask.push_back((1u << k) | (1u << ((k + 2) % 3)) | (cut_.on_b[s_.faces[f][k]] ? kOnExterior : 0u));
+      auto it = paths_.find({f, k});
+      if (it == paths_.end()) continue;
+      for (std::uint32_t g : it->second) polygon.push_back(g), mask.push_back((1u << k) | kOnExterior);
+    }
+  }
+
   void remesh_fracture_faces() {
     s_triangles_.resize(s_.faces.size());
     for (std::uint32_t f = 0; f < s_.faces.size(); ++f) {
       std::vector<std::uint32_t> polygon;
       std::vector<unsigned> mask;
-      for (int k = 0; k < 3; ++k) {
-        polygon.push_back(s_.faces[f][k]);
-        mask.push_back((1u << k) | (1u << ((k + 2) % 3)) | (cut_.on_b[s_.faces[f][k]] ? kOnExterior : 0u));
-        auto it = paths_.find({f, k});
-        if (it == paths_.end()) continue;
-        for (std::uint32_t g : it->second) polygon.push_back(g), mask.push_back((1u << k) | kOnExterior);
-      }
+      fracture_polygon(f, polygon, mask);
       if (polygon.size() == 3) {
         s_triangles_[f].push_back({polygon[0], polygon[1], polygon[2]});
         continue;
       }
       std::vector<glm::dvec3> xyz;
       for (std::uint32_t g : polygon) xyz.push_back(out_.positions[g]);
-      const glm::dvec3 corner = out_.positions[s_.faces[f][0]];
-      const glm::dvec3 normal =
-          glm::cross(out_.positions[s_.faces[f][1]] - corner, out_.positions[s_.faces[f][2]] - corner);
+      const glm::uvec4 t = s_.faces[f];
+      const glm::dvec3 normal = glm::cross(out_.positions[t.y] - out_.positions[t.x], out_.positions[t.z] - out_.positions[t.x]);
+      FracturePolygon result;
       try {
-        const FracturePolygon result = triangulate_fracture_polygon(xyz, mask, normal, flat_on_exterior_);
-        if (result.centre_added) {
-          polygon.push_back(new_vertex(result.centre, kFaceCentre, nullptr));
-          const glm::uvec4 t = s_.faces[f];
-          out_.face_centres.push_back({polygon.back(), repair_.face_origin[f], {t.x, t.y, t.z}});
-        }
-        for (const Tri& t : result.triangles) s_triangles_[f].push_back({polygon[t[0]], polygon[t[1]], polygon[t[2]]});
+        result = triangulate_fracture_polygon(xyz, mask, normal, flat_on_exterior_);
       } catch (const RunError& err) {
         throw RunError("fracture surface face " + std::to_string(repair_.face_origin[f]) + " near " + format_point(xyz[0]) +
                        ": cannot insert the traced boundary points: " + err.what());
       }
+      if (result.centre_added) {
+        polygon.push_back(new_vertex(result.centre, kFaceCentre, nullptr));
+        out_.face_centres.push_back({polygon.back(), repair_.face_origin[f], {t.x, t.y, t.z}});
+      }
+      for (const Tri& r : result.triangles) s_triangles_[f].push_back({polygon[r[0]], polygon[r[1]], polygon[r[2]]});
     }
   }
 
@@ -221,8 +235,9 @@ class PieceBuilder {
     return !(depth > 1e-3 * longest && point_in_mesh(m_.bvh, centroid));
   }
 
-  // Flood fill of the cut B across edges that are not on a trace; each patch's piece.
-  std::vector<int> assign_patches() {
+  // Flood fill of the cut B across edges that are not on a trace: per triangle, the lowest
+  // triangle of its patch.
+  std::vector<std::uint32_t> patch_roots() const {
     std::vector<std::array<std::uint32_t, 3>> keyed;  // (min, max, face)
     for (std::uint32_t t = 0; t < b_triangles_.size(); ++t)
       for (int k = 0; k < 3; ++k) {
@@ -237,31 +252,35 @@ class PieceBuilder {
       return x;
     };
     for (std::size_t i = 0; i < keyed.size(); i += 2) {
-      if (i + 1 >= keyed.size() || keyed[i + 1][0] != keyed[i][0] || keyed[i + 1][1] != keyed[i][1] ||
-          (i + 2 < keyed.size() && keyed[i + 2][0] == keyed[i][0] && keyed[i + 2][1] == keyed[i][1]))
+      const auto same = [&](std::size_t j) { return j < keyed.size() && keyed[j][0] == keyed[i][0] && keyed[j][1] == keyed[i][1]; };
+      if (!same(i + 1) || same(i + 2))
         throw RunError("internal: the cut exterior is not closed at edge " + vertex_pair(keyed[i][0], keyed[i][1]));
       if (cut_piece_.count({keyed[i][0], keyed[i][1]})) continue;
       const std::uint32_t ra = find(keyed[i][2]), rb = find(keyed[i + 1][2]);
       if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
     }
+    for (std::uint32_t t = 0; t < parent.size(); ++t) parent[t] = find(t);
+    return parent;
+  }
+
+  // Each patch's piece, from the cut edges around it (which must agree).
+  std::vector<int> assign_patches() const {
+    const std::vector<std::uint32_t> root = patch_roots();
     std::map<std::uint32_t, int> patch_piece;
-    for (std::uint32_t t = 0; t < b_triangles_.size(); ++t) {
-      const std::uint32_t root = find(t);
+    for (std::uint32_t t = 0; t < b_triangles_.size(); ++t)
       for (int k = 0; k < 3; ++k) {
         auto it = cut_piece_.find({b_triangles_[t][k], b_triangles_[t][(k + 1) % 3]});
         if (it == cut_piece_.end()) continue;
-        auto [at, inserted] = patch_piece.emplace(root, it->second.piece);
+        auto [at, inserted] = patch_piece.emplace(root[t], it->second.piece);
         if (!inserted && at->second != it->second.piece)
-          throw RunError("the part of the exterior around " + format_point(out_.positions[b_triangles_[root][0]]) +
+          throw RunError("the part of the exterior around " + format_point(out_.positions[b_triangles_[root[t]][0]]) +
                          " borders pieces " + std::to_string(at->second) + " and " + std::to_string(it->second.piece) +
                          " along the cut: the fracture surface does not split the exterior consistently");
       }
-    }
     std::vector<int> piece(b_triangles_.size());
     for (std::uint32_t t = 0; t < b_triangles_.size(); ++t) {
-      const std::uint32_t root = find(t);
-      auto it = patch_piece.find(root);
-      if (it == patch_piece.end()) it = patch_piece.emplace(root, untouched_piece(b_triangles_[root])).first;
+      auto it = patch_piece.find(root[t]);
+      if (it == patch_piece.end()) it = patch_piece.emplace(root[t], untouched_piece(b_triangles_[root[t]])).first;
       piece[t] = it->second;
     }
     return piece;

@@ -100,6 +100,12 @@ ExteriorMesh make_exterior_mesh(const MeshSoup& soup) {
     const double len = glm::length(n);
     m.face_normals[f] = len > 0.0 ? n / len : glm::dvec3(0.0);
   }
+  double volume = 0.0;
+  for (const auto& t : m.triangles)
+    volume += glm::dot(m.positions[t[0]], glm::cross(m.positions[t[1]], m.positions[t[2]]));
+  if (!(volume > 0.0))
+    throw InputError("exterior: the surface is wound inward (volume " + std::to_string(volume / 6.0) +
+                     "): faces must run counterclockwise seen from outside");
   m.bvh = build_bvh(m.positions, m.triangles);
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   for (const auto& t : m.triangles)

@@ -115,9 +115,11 @@ struct PieceOptions {
 
 /// Cuts B along the boundary of S and builds one closed mesh per piece of S (see the file
 /// comment for the method).
-/// \pre `s` is valid (validate(s) == ""); `exterior` is closed and consistently oriented outward.
 /// \throw InputError when `exterior` has no triangles, an index out of range, a non-finite
-///        coordinate, or an edge that does not have exactly two faces in opposite directions.
+///        coordinate, an edge that does not have exactly two faces in opposite directions, or
+///        a negative volume (wound inward).
+/// \throw RunError "the fracture surface is not valid: <validate()'s message>" when S breaks an
+///        invariant once its derived arrays are rebuilt.
 /// \throw RunError naming the S vertex, S edge, S face or B triangle when S does not fit B:
 ///        a boundary vertex of S farther than snap_tolerance from B, two S vertices on the same
 ///        point of B, a trace that cannot reach its end, traces that cross or touch, a patch that

@@ -155,7 +155,7 @@ struct RepairReport {
 /// is kVertexOriginal, else the lower id, is kept) and, when `flaps`, every face with two or
 /// three boundary edges whose centroid lies within 0.01 x its longest edge + `tolerance` of B
 /// removed. An edit that would make S invalid (validate()) is skipped. Vertex ids are kept.
-FractureSurface repair_boundary(const FractureSurface& s, const ExteriorMesh& m, double min_edge, bool flaps,
+FractureSurface repair_boundary(FractureSurface s, const ExteriorMesh& m, double min_edge, bool flaps,
                                 double tolerance, RepairReport& report);
 
 /// "(x, y, z)" with 9 significant digits, for messages.

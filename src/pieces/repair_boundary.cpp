@@ -103,11 +103,11 @@ void remove_flaps(FractureSurface& s, std::vector<std::uint32_t>& origin, const 
 
 }  // namespace
 
-FractureSurface repair_boundary(const FractureSurface& s, const ExteriorMesh& m, double min_edge, bool flaps,
+FractureSurface repair_boundary(FractureSurface s, const ExteriorMesh& m, double min_edge, bool flaps,
                                 double tolerance, RepairReport& report) {
-  FractureSurface out = s;
-  report.face_origin.resize(s.faces.size());
-  for (std::uint32_t f = 0; f < s.faces.size(); ++f) report.face_origin[f] = f;
+  FractureSurface out = std::move(s);
+  report.face_origin.resize(out.faces.size());
+  for (std::uint32_t f = 0; f < out.faces.size(); ++f) report.face_origin[f] = f;
   if (min_edge > 0.0) collapse_short_edges(out, report.face_origin, min_edge, report.collapsed);
   if (flaps) remove_flaps(out, report.face_origin, m, tolerance, report.flaps_removed);
   return out;
