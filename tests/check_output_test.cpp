@@ -62,8 +62,11 @@ std::string frame_text(const PieceSet& set, std::size_t t) {
       for (std::size_t f = 0; f < piece.triangles.size(); ++f) {
         if (piece.inside[f] != group) continue;
         out += "f";
-        for (std::uint32_t v : piece.triangles[f])
-          out += " " + std::to_string(base + 1 + (std::lower_bound(used.begin(), used.end(), v) - used.begin()));
+        for (std::uint32_t v : piece.triangles[f]) {
+          const auto local = std::lower_bound(used.begin(), used.end(), v) - used.begin();
+          out += ' ';
+          out += std::to_string(base + 1 + std::uint32_t(local));
+        }
         out += "\n";
       }
     }

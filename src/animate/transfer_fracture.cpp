@@ -102,8 +102,8 @@ std::int64_t pair_at(const SharedVertex& sv, int p, int q) {
   return sv.pair_fracture[pair_index(std::size_t(ip - sv.pieces.begin()), std::size_t(iq - sv.pieces.begin()), sv.pieces.size())];
 }
 
-// Shared B vertices (on a trace) take, per pair, the minimum over their nearest known neighbours.
-void propagate(std::vector<SharedVertex>& shared, const std::vector<bool>& known, const PieceSet& pieces) {
+// Directed edges between shared vertices (indices into `shared`), sorted.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> shared_edges(const std::vector<SharedVertex>& shared, const PieceSet& pieces) {
   std::vector<std::int32_t> index(pieces.positions.size(), -1);
   for (std::size_t i = 0; i < shared.size(); ++i) index[shared[i].vertex] = std::int32_t(i);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
@@ -115,6 +115,12 @@ void propagate(std::vector<SharedVertex>& shared, const std::vector<bool>& known
       }
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
+// Shared B vertices (on a trace) take, per pair, the minimum over their nearest known neighbours.
+void propagate(std::vector<SharedVertex>& shared, const std::vector<bool>& known, const PieceSet& pieces) {
+  const auto edges = shared_edges(shared, pieces);
   std::vector<std::uint32_t> layer;
   std::vector<std::int64_t> depth(shared.size(), -1);
   for (std::size_t i = 0; i < shared.size(); ++i)
