@@ -380,6 +380,9 @@ TEST(ScenegenDemo, Errors) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("nowhere.obj"), std::string::npos) << e.what();
   }
+  // A folder that cannot be made.
+  { std::ofstream(folder.path() / "a_file") << "x"; }
+  EXPECT_THROW(generate_demo_scene("wall", folder.path() / "a_file" / "sub"), RunError);
   // An open mesh is no exterior.
   {
     std::ofstream open(folder.path() / "open.obj");

@@ -103,7 +103,9 @@ int piece_near(const PieceLayout& layout, const glm::dvec3& p) {
 
 Json write_frames_animation(const SceneSetup& setup, const TetSet& set, const Duplication& dup, const Motion& motion) {
   const std::string dir = setup.name + "_frames";
-  std::filesystem::create_directories(setup.folder / dir);
+  std::error_code ec;
+  std::filesystem::create_directories(setup.folder / dir, ec);
+  if (ec) throw RunError((setup.folder / dir).string() + ": cannot create the folder: " + ec.message());
   std::vector<glm::dvec3> points;
   for (int f = 0; f < kFrames; ++f) {
     points.clear();
