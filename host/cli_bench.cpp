@@ -82,7 +82,10 @@ std::vector<BenchScene> generate_scenes(const std::vector<std::string>& names, c
                       " is missing (run 'bash .ci/setup build', or set FRACREF_DATA_DIR)");
       continue;
     }
-    scenes.push_back({name, generate_demo_scene(name, folder / name, demo)});
+    BenchScene scene{name, generate_demo_scene(name, folder / name, demo)};
+    for (const DemoTarget& t : demo_scene_targets())
+      if (t.name == name) scene.paper_coarse_triangles = t.coarse_triangles, scene.paper_refined_triangles = t.refined_triangles;
+    scenes.push_back(scene);
   }
   return scenes;
 }

@@ -188,7 +188,7 @@ TEST(BatchBench, SceneSeriesFromTheJobsOwnReports) {
   std::vector<std::string> order;
   o.progress = [&](const std::string& what, double) { order.push_back(what); };
   const auto backends = cpu_and_missing(*cpu);
-  const auto r = bench_scenes({{"cube", scene}, {"wall", bad}}, backends, o);
+  const auto r = bench_scenes({{"cube", scene}, {"wall", bad, 204, 208000}}, backends, o);
   ASSERT_EQ(r.size(), 4u);
   EXPECT_EQ(r[0].scene, "cube");
   EXPECT_EQ(r[0].backend, "cpu");
@@ -212,11 +212,14 @@ TEST(BatchBench, SceneSeriesFromTheJobsOwnReports) {
   EXPECT_EQ(j["results"][0]["samples_seconds"]["refine"].size(), 2u);
   EXPECT_TRUE(j["results"][0]["paper_seconds"].is_null());
   EXPECT_EQ(j["results"][2]["paper_seconds"], 13.6);
+  EXPECT_EQ(j["results"][2]["paper_triangles"]["refined"], 208000);
+  EXPECT_TRUE(j["results"][0]["paper_triangles"].is_null());
   EXPECT_EQ(j["results"][1]["to_cpu"].size(), 0u);
 
   const std::string table = scene_table(r, 2, Stage::refine);
   EXPECT_NE(table.find("8 -> "), std::string::npos) << table;
   EXPECT_NE(table.find("13.60"), std::string::npos) << table;
+  EXPECT_NE(table.find("204 -> 208000"), std::string::npos) << table;
   EXPECT_NE(table.find("not robust yet"), std::string::npos) << table;
   EXPECT_NE(table.find("! wall on cpu: "), std::string::npos) << table;
 }

@@ -116,6 +116,7 @@ TEST(BatchRunner, OkFailedAndCrashedJobsAreRecordedAndTheOthersGoOn) {
   EXPECT_EQ(r.jobs[2].coarse_triangles, 8u);
   EXPECT_EQ(r.jobs[2].refined_triangles, 20u);
   EXPECT_EQ(r.jobs[2].job_seconds, 1.5);
+  for (const JobOutcome& o : r.jobs) EXPECT_GE(o.seconds, 0.2);  // each child sleeps 0.2 s
   const fs::path good = job_folder(f.dir / "out", "good");
   const std::string log = slurp(good / "log.txt");
   EXPECT_EQ(log.rfind("$ " + (f.dir / "bin/fracref").string() + " refine " + (f.dir / "good.json").string() + " -o " +

@@ -34,6 +34,8 @@ using BenchProgress = std::function<void(const std::string& what, double fractio
 struct BenchScene {
   std::string name;                 ///< "wall"
   std::filesystem::path scene_file;
+  std::uint64_t paper_coarse_triangles = 0;   ///< the paper's counts (demo_scene_targets()); 0 = unknown
+  std::uint64_t paper_refined_triangles = 0;
 };
 
 /// The measurements of one (scene, backend) pair: one entry per run in every series.
@@ -44,6 +46,7 @@ struct SceneBenchResult {
   std::vector<double> setup, refine, pieces, total;  ///< seconds from each run's report
   std::optional<std::uint64_t> coarse_triangles, refined_triangles;
   std::optional<std::uint64_t> iterations;
+  std::uint64_t paper_coarse_triangles = 0, paper_refined_triangles = 0;  ///< from BenchScene
 };
 
 struct SceneBenchOptions {

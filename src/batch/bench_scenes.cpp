@@ -64,6 +64,8 @@ std::vector<SceneBenchResult> bench_scenes(const std::vector<BenchScene>& scenes
       SceneBenchResult r;
       r.scene = scenes[s].name;
       r.backend = b.key;
+      r.paper_coarse_triangles = scenes[s].paper_coarse_triangles;
+      r.paper_refined_triangles = scenes[s].paper_refined_triangles;
       r.backend_name = b.backend ? b.backend->name() : b.key;
       if (!b.backend) r.error = "unavailable: " + b.unavailable;
       results.push_back(r);

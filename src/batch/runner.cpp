@@ -71,7 +71,10 @@ std::optional<Running> start_job(const BatchJob& job, std::size_t index, const B
   try {
     std::vector<std::string> args = job_command(job, o, folder, demos);
     append(log, "$ " + shell_line(args) + "\n");
-    return Running{spawn(args, log), index, Clock::now()};
+    // Timed from before the spawn: on a loaded machine the parent may resume only after a short
+    // child has already exited.
+    const Clock::time_point start = Clock::now();
+    return Running{spawn(args, log), index, start};
   } catch (const InputError& e) {
     outcome.exit_code = kExitBadInput;
     outcome.message = std::string("fracref: batch: ") + e.what();
