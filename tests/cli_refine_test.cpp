@@ -114,3 +114,14 @@ TEST(CliRefine, DemoListAndUnknownScene) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("volcano"), std::string::npos);
 }
+
+TEST(CliRefine, DemoWallRefinesIntoAValidSurface) {
+  // Ten pieces with junctions everywhere: the refiner validates S before it returns, so a broken
+  // junction (for instance a flip folding a face past another piece's) fails this run.
+  TempDir t;
+  auto r = run("demo wall -o " + (t.path / "wall").string() + " --backend cpu --stop-after refine -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::string report = slurp(t.path / "wall" / "report.json");
+  EXPECT_NE(report.find("\"refined_triangles\""), std::string::npos);
+  EXPECT_TRUE(fs::exists(t.path / "wall" / "input" / "wall.json"));
+}

@@ -173,3 +173,46 @@ TEST(RefineLoop, FlipsRemoveSlimTrianglesAndKeepInvariants) {
   FractureSurface bent = make_fracture_surface(p, {{0, 1, 2, 0}, {1, 0, 3, 0}}, {{1, 0}, {1, 0}}, 2);
   EXPECT_EQ(flip_slim_triangles(bent, psi, none, FlipOptions{20.0, 5.0}), 0u);
 }
+
+TEST(RefineLoop, ThreePieceJunctionStaysValidAndIntersectionFree) {
+  // The T-junction example: z = 0 over x in [-1, 1], y in [0, 3], and x = 0 for z in [0, 1];
+  // its boundary lies on the box [-1, 1] x [0, 3] x [-1, 1].
+  FractureSurface s = example_t_junction(3);
+  MeshSoup box;
+  for (int i = 0; i < 8; ++i) box.positions.push_back(glm::dvec3(i & 1 ? 1.0 : -1.0, (i >> 1) & 1 ? 3.0 : 0.0, (i >> 2) & 1 ? 1.0 : -1.0));
+  box.triangles = unit_cube().triangles;
+  const ExteriorSurface b = make_exterior(box, "box");
+  Grid3 g;
+  g.dims = {24, 32, 24};
+  g.origin = glm::dvec3(-1.1, -0.1, -1.1);
+  g.cell = 2.2 / 23.0;
+  for (unsigned z = 0; z < g.dims.z; ++z)
+    for (unsigned y = 0; y < g.dims.y; ++y)
+      for (unsigned x = 0; x < g.dims.x; ++x) {
+        glm::dvec3 p = g.node_position(x, y, z);
+        g.values.push_back(float(1.0 + 0.5 * std::sin(9.0 * p.x + 7.0 * p.y) * std::cos(8.0 * p.z) + 0.3 * std::abs(p.z)));
+      }
+  PyramidOptions po;
+  po.levels = 4;
+  FieldGrid4 field = precompute_field_gradient(build_pyramid_cpu(g, po));
+  auto backend = make_cpu_backend(2);
+  RefineOptions o;
+  o.scale = b.diagonal();
+  o.tau = 0.0005;
+  o.delta = 0.003;
+  o.max_iterations = 25;
+  o.min_angle = 30.0;
+  RefineResult r = refine_surface(s, field, b, *backend, o);
+  ASSERT_EQ(validate(s), "");
+  EXPECT_GT(s.faces.size(), 36u);
+  double previous = r.initial_energy;
+  for (const IterationStats& st : r.iterations) {
+    EXPECT_LE(st.energy, previous * (1.0 + 1e-9));
+    previous = st.energy;
+  }
+  std::vector<glm::dvec3> p;
+  for (auto& x : s.positions) p.push_back(glm::dvec3(glm::vec3(x)));
+  std::vector<TriangleIds> t;
+  for (auto& f : s.faces) t.push_back(TriangleIds{f.x, f.y, f.z});
+  EXPECT_TRUE(find_self_intersections(p, t, 10).empty());
+}

@@ -22,8 +22,9 @@ struct ExteriorSurface {
   bool contains(const glm::dvec3& p) const { return point_in_mesh(bvh, p); }
 };
 
-/// Builds the exterior from a mesh. \throw InputError naming `what` when the mesh is not closed
-/// (boundary or non-manifold edges) or has no triangles.
+/// Builds the exterior from a mesh. \throw InputError naming `what` when the mesh is not one
+/// closed, edge- and vertex-manifold, consistently and outward wound surface (checked through
+/// the OpenMesh halfedge structure), or has no triangles.
 ExteriorSurface make_exterior(const MeshSoup& mesh, const std::string& what);
 
 }  // namespace fracref

@@ -50,6 +50,18 @@ bool flip_improves(const Quad& q, const FlipOptions& o) {
   return e_new <= e_old;
 }
 
+// A flip changes which face of the quad lies on each of its four outer edges; at a junction
+// (non-manifold) edge that turns the face around the edge to a new opposite vertex and can fold it
+// past another piece's face, so quads touching a junction are left alone.
+bool touches_junction(const FractureSurface& s, glm::uvec2 ab, glm::uvec2 cd) {
+  for (std::uint32_t p : {ab.x, ab.y})
+    for (std::uint32_t q : {cd.x, cd.y}) {
+      std::uint32_t e = find_edge(s, p, q);
+      if (e != kNoEdge && s.edge_special[e] == kEdgeNonManifold) return true;
+    }
+  return false;
+}
+
 }  // namespace
 
 std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> samples, const ExteriorSurface&,
@@ -63,6 +75,7 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
     if (used[s.ef_faces[s.ef_offsets[e]]] || used[s.ef_faces[s.ef_offsets[e] + 1]]) continue;
     if (!flip_candidates(s, e, cd, ff)) continue;
     glm::uvec2 ab = s.edges[e];
+    if (touches_junction(s, ab, cd)) continue;
     auto x = [&](std::uint32_t v) { return glm::dvec3(glm::vec3(s.positions[v])); };
     Quad q{x(ab.x), x(ab.y), x(cd.x), x(cd.y), samples[ab.x].x, samples[ab.y].x, samples[cd.x].x, samples[cd.y].x};
     auto diagonal = std::minmax(cd.x, cd.y);

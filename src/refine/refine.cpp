@@ -6,6 +6,7 @@
 #include "refine/collisions.hpp"
 #include "refine/flips.hpp"
 #include "refine/samples.hpp"
+#include "util/error.hpp"
 
 namespace fracref {
 namespace {
@@ -351,6 +352,10 @@ RefineResult Refiner::run(const RefineProgress& progress) {
       break;
     }
   }
+  // Every edit is meant to keep S valid; a violation here is a bug, and it must not reach the
+  // pieces or the output files silently.
+  if (std::string broken = validate(s_); !broken.empty())
+    throw RunError("refinement produced an invalid fracture surface (an internal error; please report it): " + broken);
   result.tree = std::move(tree_);
   return result;
 }

@@ -48,6 +48,7 @@ using RefineProgress = std::function<void(const IterationStats&, int iteration, 
 
 /// Refines `s` in place. Every vertex of `s` present on entry is a leaf of the returned tree.
 /// Deterministic for a given backend, options and input.
+/// \throw RunError if the refined surface fails validate() (an internal error, never expected).
 /// \pre s valid (validate(s) == ""), field covers B's bounding box, backend's field set or not
 ///      (refine_surface calls set_field itself).
 RefineResult refine_surface(FractureSurface& s, const FieldGrid4& field, const ExteriorSurface& exterior,
