@@ -10,6 +10,7 @@
 #include "pipeline/job_outputs.hpp"
 #include "pipeline/material.hpp"
 #include "pipeline/strength.hpp"
+#include "animate/animate.hpp"
 #include "pieces/pieces.hpp"
 #include "refine/refine.hpp"
 #include "util/atomic_output.hpp"
@@ -146,8 +147,16 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   wo.obj = scene.output.obj;
   write_pieces(pieces, out, wo);
   report.seconds("pieces", seconds_since(t_pieces));
-  if (o.stop_after != Stage::pieces)
-    report.note("the animate stage is not implemented yet in this version; stopped after pieces");
+  if (o.stop_after == Stage::pieces || animation.frames.empty())
+    return report.finish(out, seconds_since(t0), [&] { return preview_pieces(pieces); });
+  progress("animate", 0.0, std::to_string(animation.frames.size()) + " frames");
+  const auto t_animate = Clock::now();
+  AnimationTransfer transfer = build_transfer(model, animation, refined.tree, pieces);
+  if (scene.output.frames) write_frames(pieces, transfer, animation, out);
+  report.animated(transfer, scene.output.frames ? animation.frames.size() : 0);
+  const int sheet = o.preview_frames.value_or(scene.output.preview_frames);
+  if (sheet > 0) write_png(out / "preview_frames.png", preview_frames(pieces, transfer, animation, sheet));
+  report.seconds("animate", seconds_since(t_animate));
   return report.finish(out, seconds_since(t0), [&] { return preview_pieces(pieces); });
 }
 

@@ -1,5 +1,6 @@
 #include "pipeline/job_outputs.hpp"
 
+#include <algorithm>
 #include <limits>
 
 #include "field/field_sampler.hpp"
@@ -53,6 +54,13 @@ void JobReport::pieces(const PieceSet& pieces, const PieceReport& checked) {
                      {"points_tested", checked.points_tested}, {"points_in_no_piece", checked.points_in_no_piece},
                      {"points_in_several_pieces", checked.points_in_several_pieces}};
   j_["pieces_ok"] = checked.ok();
+}
+
+void JobReport::animated(const AnimationTransfer& transfer, std::size_t frames_written) {
+  j_["frames_written"] = frames_written;
+  std::size_t fractured = 0;
+  for (std::int64_t f : transfer.coarse_fracture_frame) fractured += f != kNeverFractures;
+  j_["coarse_vertices_fracturing"] = fractured;
 }
 
 void JobReport::seconds(const std::string& key, double value) { j_["seconds"][key] = value; }
@@ -138,6 +146,39 @@ Image preview_pieces(const PieceSet& set) {
   }
   RenderOptions ro;
   return render_preview(meshes, ro);
+}
+
+Image preview_frames(const PieceSet& set, const AnimationTransfer& transfer, const CoarseAnimation& animation,
+                     int count) {
+  const std::size_t n = animation.frames.size();
+  std::vector<std::vector<PreviewMesh>> scenes;
+  for (int k = 0; k < count && n > 0; ++k) {
+    std::size_t frame = count == 1 ? n - 1 : std::size_t(k) * (n - 1) / std::size_t(count - 1);
+    std::vector<glm::dvec3> slots = transfer_frame(transfer, animation, frame);
+    std::vector<PreviewMesh> meshes;
+    for (std::size_t p = 0; p < set.pieces.size(); ++p) {
+      const std::vector<std::uint32_t>& used = transfer.layout.vertices[p];
+      PreviewMesh m;
+      for (std::size_t i = 0; i < used.size(); ++i) m.positions.push_back(slots[transfer.layout.offsets[p] + i]);
+      const PieceSet::Piece& piece = set.pieces[p];
+      for (std::size_t f = 0; f < piece.triangles.size(); ++f) {
+        std::array<std::uint32_t, 3> t;
+        for (int c = 0; c < 3; ++c)
+          t[c] = std::uint32_t(std::lower_bound(used.begin(), used.end(), piece.triangles[f][c]) - used.begin());
+        m.triangles.push_back(t);
+        m.triangle_colors.push_back(piece.inside[f] ? piece_color(int(p)) : glm::vec3(0.86f, 0.86f, 0.88f));
+      }
+      meshes.push_back(std::move(m));
+    }
+    scenes.push_back(std::move(meshes));
+  }
+  // Each picture is framed on its own moment: falling pieces would shrink a shared frame to dots.
+  RenderOptions ro;
+  ro.width = 320;
+  ro.height = 240;
+  std::vector<Image> images;
+  for (auto& meshes : scenes) images.push_back(render_preview(meshes, ro));
+  return contact_sheet(images, 4);
 }
 
 Image preview_surface(const FractureSurface& s, const MeshSoup& exterior) {

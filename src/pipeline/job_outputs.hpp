@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "animate/animate.hpp"
 #include "coarse/animation.hpp"
 #include "coarse/coarse_model.hpp"
 #include "field/grid.hpp"
@@ -26,6 +27,7 @@ class JobReport {
   void refined(const FractureSurface& coarse, const FractureSurface& refined, const RefineResult& result,
                const Grid3& zeta);
   void pieces(const PieceSet& pieces, const PieceReport& checked);
+  void animated(const AnimationTransfer& transfer, std::size_t frames_written);
   void seconds(const std::string& key, double value);
   void note(const std::string& text);
   /// Renders the preview (when the scene asks for one), writes report.json, returns the report.
@@ -46,6 +48,11 @@ double mean_strength(const FractureSurface& s, const Grid3& zeta);
 
 /// The pieces slightly exploded, fracture faces in their piece's colour, exterior faces light.
 Image preview_pieces(const PieceSet& pieces);
+
+/// A contact sheet of `count` frames evenly spread over the animation (4 per row), each frame
+/// the pieces at their animated positions, each picture framed on its own.
+Image preview_frames(const PieceSet& pieces, const AnimationTransfer& transfer, const CoarseAnimation& animation,
+                     int count);
 
 /// Two views side by side: the fracture surface coloured by piece, and the exterior.
 Image preview_surface(const FractureSurface& s, const MeshSoup& exterior);
