@@ -20,6 +20,8 @@ constexpr float kStepFraction = 0.3f;
 constexpr int kBacktracks = 6;
 constexpr double kStiffFraction = 0.5;
 constexpr int kInsertBacktracks = 10;
+constexpr double kConformTolerance = 2e-4;  // of the diagonal
+constexpr int kConformPasses = 8;
 
 class Refiner {
  public:
@@ -37,6 +39,7 @@ class Refiner {
   float choose_dt(const std::vector<float>& shortest) const;
   std::vector<glm::vec3> boundary_tangents() const;
   std::vector<float> stiffness_steps() const;
+  void conform_boundary();
   IterationStats flow_step();
   std::size_t refine_step(std::uint32_t iteration);
   struct ElementMotion {
@@ -326,11 +329,42 @@ void Refiner::drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::
   chosen.resize(kept), start.resize(kept), target.resize(kept);
 }
 
+// The pieces stage traces every boundary edge of S across B; a long boundary edge whose chord
+// cuts deep under a curved B traces a path far from its chord, and neighbouring traces can cross.
+// Before the flow starts, boundary edges are split at their midpoint projected onto B until every
+// chord is within kConformTolerance of B.
+void Refiner::conform_boundary() {
+  const double limit = kConformTolerance * o_.scale;
+  for (int pass = 0; pass < kConformPasses; ++pass) {
+    std::vector<SplitRequest> chosen;
+    std::vector<glm::vec3> start, target;
+    std::vector<char> touched(s_.faces.size(), 0);
+    for (std::uint32_t e = 0; e < s_.edges.size(); ++e) {
+      if (s_.edge_special[e] != kEdgeBoundary) continue;
+      std::uint32_t f = s_.ef_faces[s_.ef_offsets[e]];
+      if (touched[f]) continue;
+      glm::uvec2 ab = s_.edges[e];
+      glm::dvec3 mid = 0.5 * (glm::dvec3(glm::vec3(s_.positions[ab.x])) + glm::dvec3(glm::vec3(s_.positions[ab.y])));
+      glm::dvec3 q = b_.closest_point(mid);
+      if (glm::distance(q, mid) <= limit) continue;
+      touched[f] = 1;
+      chosen.push_back({SplitRequest::kEdge, e, glm::vec3(0.5f, 0.5f, 0.0f)});
+      start.push_back(glm::vec3(mid));
+      target.push_back(glm::vec3(q));
+    }
+    if (chosen.empty()) return;
+    drop_colliding_insertions(chosen, start, target);
+    if (chosen.empty()) return;
+    apply_splits(s_, tree_, chosen, &target);
+  }
+}
+
 RefineResult Refiner::run(const RefineProgress& progress) {
   RefineResult result;
   tree_ = RefinementTree::identity(s_.positions.size());
   be_.set_field(field_);
   project_boundary_vertices(s_, b_);
+  conform_boundary();
   evaluate();
   result.initial_energy = energy();
   for (int it = 0; it < o_.max_iterations; ++it) {
