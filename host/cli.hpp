@@ -1,5 +1,6 @@
 #pragma once
 // The CLI's entry point and the subcommands it dispatches to (one file per subcommand).
+#include <filesystem>
 #include <functional>
 #include <string>
 
@@ -25,5 +26,9 @@ void add_check_command(CLI::App& app, Action& action);
 
 /// True when stderr is a terminal: progress lines are shown only then.
 bool stderr_is_terminal();
+
+/// Where set-up put the data the demos need (the npm bunny): $FRACREF_DATA_DIR, else the folder
+/// `data` beside the executable.
+std::filesystem::path data_dir();
 
 }  // namespace fracref::cli

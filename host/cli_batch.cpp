@@ -38,12 +38,6 @@ fs::path self_executable() {
   return exe;
 }
 
-/// Where set-up put the data the demos need (the npm bunny): FRACREF_DATA_DIR or <exe>/data.
-fs::path data_dir() {
-  if (const char* env = std::getenv("FRACREF_DATA_DIR")) return env;
-  return self_executable().parent_path() / "data";
-}
-
 /// The default output folder: beside the manifest, its name without .json plus ".out".
 fs::path default_output(const fs::path& manifest) {
   return manifest.parent_path() / (manifest.stem().string() + ".out");

@@ -32,14 +32,6 @@ struct BenchCliOptions {
   bool quiet = false;
 };
 
-/// Where set-up put the data the demos need (the npm bunny): FRACREF_DATA_DIR or <exe>/data.
-fs::path data_dir() {
-  if (const char* env = std::getenv("FRACREF_DATA_DIR")) return env;
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  return (ec ? fs::current_path() : exe.parent_path()) / "data";
-}
-
 /// A temporary folder removed with everything in it when the bench ends.
 struct ScratchDir {
   fs::path path = fs::temp_directory_path() / ("fracref-bench-" + std::to_string(::getpid()));

@@ -18,18 +18,6 @@ namespace fracref::cli {
 namespace fs = std::filesystem;
 namespace {
 
-fs::path executable_dir() {
-  std::error_code ec;
-  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? fs::current_path() : exe.parent_path();
-}
-
-/// Where set-up put the data the demos need (the npm bunny): FRACREF_DATA_DIR or <exe>/data.
-fs::path data_dir() {
-  if (const char* env = std::getenv("FRACREF_DATA_DIR")) return env;
-  return executable_dir() / "data";
-}
-
 /// Runs one scene into o.output through a staged folder, with a progress line on a terminal;
 /// `extra_input` (the generated inputs of a demo) is moved to OUT/input when the run succeeds.
 int run_scene(const Scene& scene, const JobCliOptions& o, const fs::path* extra_input) {

@@ -11,6 +11,13 @@ namespace fracref::cli {
 
 bool stderr_is_terminal() { return ::isatty(STDERR_FILENO) == 1; }
 
+std::filesystem::path data_dir() {
+  if (const char* env = std::getenv("FRACREF_DATA_DIR")) return env;
+  std::error_code ec;
+  std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return (ec ? std::filesystem::current_path() : exe.parent_path()) / "data";
+}
+
 namespace {
 const char* kFooter = R"(Exit codes: 0 success; 1 failure while running; 2 bad input or usage.
 Run 'fracref SUBCOMMAND --help' for the options of each subcommand.)";
