@@ -55,14 +55,38 @@ std::vector<glm::dvec3> to_double(const std::vector<glm::vec4>& x) {
   return out;
 }
 
+// The faces that may touch B during the step. Distance to B is 1-Lipschitz, so every point of a
+// face stays at least (smallest corner clearance − longest edge − largest corner travel) away
+// from B; faces with a positive bound cannot meet it and are left out of the (costly) test.
+std::vector<std::array<std::uint32_t, 3>> faces_near_exterior(const std::vector<std::array<std::uint32_t, 3>>& tris,
+                                                              const std::vector<glm::vec4>& x0,
+                                                              const std::vector<glm::vec4>& x1,
+                                                              const std::vector<float>& clearance) {
+  if (clearance.size() != x0.size()) return tris;
+  std::vector<std::array<std::uint32_t, 3>> near;
+  for (const auto& t : tris) {
+    double lowest = 1e300, longest = 0.0, travel = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      glm::dvec3 a(glm::vec3(x0[t[k]])), c(glm::vec3(x0[t[(k + 1) % 3]]));
+      lowest = std::min(lowest, double(clearance[t[k]]) < 0.0 ? -1.0 : double(clearance[t[k]]));
+      longest = std::max(longest, glm::distance(a, c));
+      travel = std::max(travel, double(glm::distance(glm::vec3(x0[t[k]]), glm::vec3(x1[t[k]]))));
+    }
+    if (lowest - longest - travel <= 1e-6 * (longest + 1e-30) + 1e-12) near.push_back(t);
+  }
+  return near;
+}
+
 }  // namespace
 
 std::size_t apply_collision_constraints(const FractureSurface& s, const ExteriorSurface& b,
                                         const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1,
                                         std::vector<float>* clearance) {
+  const std::vector<float> clearance_at_x0 = clearance ? *clearance : std::vector<float>();
   std::size_t stopped = keep_inside(s, b, x0, x1, clearance);
   std::vector<std::array<std::uint32_t, 3>> tris(s.faces.size());
   for (std::size_t f = 0; f < s.faces.size(); ++f) tris[f] = {s.faces[f].x, s.faces[f].y, s.faces[f].z};
+  const std::vector<std::array<std::uint32_t, 3>> near_b = faces_near_exterior(tris, x0, x1, clearance_at_x0);
   std::vector<std::uint8_t> on_b(x1.size(), 0);
   for (std::size_t i = 0; i < x1.size(); ++i) on_b[i] = (s.vertex_flags[i] & kVertexBoundary) ? 1 : 0;
   StepCcdOptions opts;
@@ -74,7 +98,7 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
     std::vector<glm::dvec3> p1 = to_double(x1);
     std::vector<CcdPair> pairs = find_step_collisions(p0, p1, tris, opts);
     opts.ignored_vertices = &on_b;
-    std::vector<CcdPair> with_b = find_step_collisions_with_static(p0, p1, tris, b.ccd, opts);
+    std::vector<CcdPair> with_b = find_step_collisions_with_static(p0, p1, near_b, b.ccd, opts);
     opts.ignored_vertices = nullptr;
     if (pairs.empty() && with_b.empty()) break;
     const std::size_t before = stopped;
