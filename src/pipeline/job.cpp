@@ -5,6 +5,7 @@
 #include "coarse/animation.hpp"
 #include "coarse/coarse_model.hpp"
 #include "field/field_sampler.hpp"
+#include "field/grid_file.hpp"
 #include "field/procedural.hpp"
 #include "io/mesh_io.hpp"
 #include "pipeline/job_outputs.hpp"
@@ -68,13 +69,15 @@ struct Field {
 };
 
 Field build_field(const Scene& scene, const ExteriorSurface& b, const CoarseModel& model, ComputeBackend& backend) {
-  if (scene.field.type == FieldType::grid)
-    throw InputError(scene.file.string() + ": key 'field.type': 'grid' fields are not supported yet in this version");
   const double diag = b.diagonal();
   const glm::dvec3 pad(scene.field.padding * diag);
-  FieldSpec material = material_from_scene(scene.field, scene.file, b.bbox_min, b.bbox_max);
   Field f;
-  f.zeta = sample_strength(material, b.bbox_min - pad, b.bbox_max + pad, scene.field.resolution);
+  if (scene.field.type == FieldType::grid) {
+    f.zeta = load_strength_grid(scene.field.file, b.bbox_min, b.bbox_max, scene.field.resolution);  // the file's own box and resolution
+  } else {
+    FieldSpec material = material_from_scene(scene.field, scene.file, b.bbox_min, b.bbox_max);
+    f.zeta = sample_strength(material, b.bbox_min - pad, b.bbox_max + pad, scene.field.resolution);
+  }
   std::vector<glm::dvec3> pos;
   for (const glm::vec4& p : model.surface.positions) pos.push_back(glm::dvec3(glm::vec3(p)));
   std::vector<std::array<std::uint32_t, 3>> tris;
