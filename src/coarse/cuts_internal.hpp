@@ -1,0 +1,47 @@
+#pragma once
+// Tets of the inside of a closed exterior, for the cuts input (cuts_model.cpp). A copy of the
+// isosurface-stuffing mesher of src/scenegen (stuffing.cpp, and box_lattice / keep_largest_part
+// of lattice.cpp): the scenegen room links coarse, so coarse cannot link it back. Keep the two
+// in step when one changes. Not part of the public API.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace fracref::cuts_detail {
+
+/// Tets on their vertices, each positively oriented (det[b-a, c-a, d-a] > 0).
+struct TetSet {
+  std::vector<glm::dvec3> positions;
+  std::vector<glm::uvec4> tets;
+};
+
+/// `cells` cubes over [lo, hi], each split into the 6 tets of the Kuhn triangulation.
+struct LatticeSpec {
+  glm::dvec3 lo{0.0}, hi{1.0};
+  glm::ivec3 cells{1, 1, 1};
+};
+
+TetSet box_lattice(const LatticeSpec& spec);
+double tet_volume(const TetSet& set, std::uint32_t t);
+
+/// Interior faces (shared by two tets), sorted by their sorted vertex triple: the vertices and
+/// the two tets (x < y).
+struct InteriorFaces {
+  std::vector<glm::uvec3> faces;
+  std::vector<glm::uvec2> tets;
+};
+InteriorFaces interior_faces(const TetSet& set);
+
+/// Keeps the largest face-connected part (ties to the lowest tet), vertices compacted in order.
+void keep_largest_part(TetSet& set);
+
+/// The inside of the closed, outward exterior (positions, triangles) as tets whose hull lies on
+/// it: isosurface stuffing on the Kuhn lattice `spec` (see scenegen_internal.hpp, stuffed_tets),
+/// largest part only. \pre the lattice box contains the exterior with room.
+/// \throw RunError when no tet is inside.
+TetSet stuffed_tets(const std::vector<glm::dvec3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                    const LatticeSpec& spec, double warp);
+
+}  // namespace fracref::cuts_detail
