@@ -4,6 +4,7 @@
 
 #include "coarse/animation.hpp"
 #include "coarse/coarse_model.hpp"
+#include "coarse/cuts_model.hpp"
 #include "field/field_sampler.hpp"
 #include "field/grid_file.hpp"
 #include "field/procedural.hpp"
@@ -51,9 +52,13 @@ CoarseModel load_coarse(const Scene& scene) {
       return load_tet_model(f.mesh, f.cracks, o);
     }
     case FractureKind::pieces: return f.files.empty() ? load_pieces(f.mesh) : load_pieces(f.files);
-    case FractureKind::cuts: break;
+    case FractureKind::cuts: {
+      CutsOptions o;
+      o.virtual_fracture = f.virtual_fracture;
+      return load_cuts_model(scene.exterior, f.mesh, o);
+    }
   }
-  throw InputError(scene.file.string() + ": key 'fracture.kind': 'cuts' input is not supported yet in this version");
+  throw InputError(scene.file.string() + ": key 'fracture.kind': unknown kind");
 }
 
 CoarseAnimation load_animation(const Scene& scene, const CoarseModel& model) {

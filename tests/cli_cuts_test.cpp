@@ -1,0 +1,47 @@
+// `fracref refine` with `fracture.kind: "cuts"`: a cube with one cut drawn halfway across it is
+// completed by virtual fracture and cut into two pieces end to end.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
+
+using cli_test::run;
+using cli_test::slurp;
+using cli_test::TempDir;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kCube =
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n"
+    "f 1 3 2\nf 2 3 4\nf 5 6 7\nf 6 8 7\nf 1 2 5\nf 2 6 5\nf 3 7 4\nf 4 7 8\nf 1 5 3\nf 3 5 7\nf 2 4 6\nf 4 8 6\n";
+
+}  // namespace
+
+TEST(CliCuts, AHalfwayCutBecomesTwoPieces) {
+  TempDir t;
+  t.write("cube.obj", kCube);
+  t.write("cut.obj", "v 0.53 -0.2 -0.2\nv 0.53 0.5 -0.2\nv 0.53 0.5 1.2\nv 0.53 -0.2 1.2\nf 1 2 3 4\n");
+  auto s = t.write("scene.json", R"({"exterior": "cube.obj", "fracture": {"kind": "cuts", "mesh": "cut.obj"},
+    "field": {"type": "marble", "resolution": [16, 16, 16]}, "refine": {"max_iterations": 3, "max_triangles": 4000}})");
+  auto r = run("refine " + s.string() + " -o " + (t.path / "out").string() + " --backend cpu --stop-after pieces -q",
+               "VK_ICD_FILENAMES=/nonexistent VK_DRIVER_FILES=/nonexistent");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::string text = slurp(t.path / "out" / "report.json");
+  auto report = nlohmann::json::parse(text);
+  EXPECT_EQ(report["coarse_triangles"], 540) << text;  // as in scenes/INPUTS.md, "Exterior plus cuts"
+  EXPECT_EQ(report["pieces"], 2) << text;
+  EXPECT_EQ(report["pieces_ok"], true) << text;
+}
+
+TEST(CliCuts, ACutOutsideIsRefusedNamingTheFile) {
+  TempDir t;
+  t.write("cube.obj", kCube);
+  t.write("far.obj", "v 2 0 0\nv 2 1 0\nv 2 1 1\nf 1 2 3\n");
+  auto s = t.write("scene.json", R"({"exterior": "cube.obj", "fracture": {"kind": "cuts", "mesh": "far.obj"},
+    "field": {"type": "marble", "resolution": [8, 8, 8]}})");
+  auto r = run("refine " + s.string() + " -o " + (t.path / "out").string() + " --backend cpu");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("far.obj: cut 1 of 1"), std::string::npos) << r.err;
+}
