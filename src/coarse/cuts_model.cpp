@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <numeric>
 
-#include "coarse/cuts_internal.hpp"
+#include "coarse/tet_lattice.hpp"
 #include "geom/bvh.hpp"
 #include "io/mesh_io.hpp"
 #include "util/error.hpp"
@@ -13,7 +13,6 @@
 namespace fracref {
 namespace {
 
-using cuts_detail::TetSet;
 
 // Does the segment p→q cross triangle (a, b, c)? Möller–Trumbore, ends included.
 bool segment_hits(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
@@ -52,11 +51,11 @@ TetSet stuff_exterior(const MeshSoup& exterior, const CutsOptions& o) {
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   for (const glm::dvec3& p : exterior.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
   const double h = glm::length(hi - lo) / o.cells_per_diagonal;
-  cuts_detail::LatticeSpec spec;
+  LatticeSpec spec;
   spec.lo = lo - 1.5 * h;
   for (int a = 0; a < 3; ++a) spec.cells[a] = int(std::ceil((hi[a] - lo[a]) / h)) + 3;
   spec.hi = spec.lo + h * glm::dvec3(spec.cells);
-  return cuts_detail::stuffed_tets(exterior.positions, exterior.triangles, spec, o.warp);
+  return stuffed_tets(exterior.positions, exterior.triangles, spec, o.warp);
 }
 
 std::string near_text(const glm::dvec3& p) {
@@ -71,7 +70,7 @@ CoarseModel build_cuts_model(const MeshSoup& exterior, const MeshSoup& cuts, con
                              const CutsOptions& options) {
   if (cuts.triangles.empty()) throw InputError(cuts_file + ": the cuts file has no face");
   const TetSet set = stuff_exterior(exterior, options);
-  const cuts_detail::InteriorFaces faces = cuts_detail::interior_faces(set);
+  const InteriorFaces faces = interior_faces(set);
   std::uint32_t parts = 0;
   const std::vector<std::uint32_t> part = cut_parts(cuts, parts);
   const Bvh bvh = build_bvh(cuts.positions, cuts.triangles);

@@ -29,45 +29,9 @@ bool less3(const glm::uvec3& a, const glm::uvec3& b) {
 
 }  // namespace
 
-TetSet box_lattice(const LatticeSpec& spec) {
-  TetSet set;
-  const glm::ivec3 n = spec.cells;
-  const auto id = [&](int i, int j, int k) { return std::uint32_t(i + (n.x + 1) * (j + (n.y + 1) * k)); };
-  for (int k = 0; k <= n.z; ++k)
-    for (int j = 0; j <= n.y; ++j)
-      for (int i = 0; i <= n.x; ++i) {
-        const glm::ivec3 g(i, j, k);
-        glm::dvec3 p;
-        for (int a = 0; a < 3; ++a)
-          p[a] = g[a] == n[a] ? spec.hi[a] : spec.lo[a] + (spec.hi[a] - spec.lo[a]) * double(g[a]) / double(n[a]);
-        set.positions.push_back(p);
-      }
-  for (int k = 0; k < n.z; ++k)
-    for (int j = 0; j < n.y; ++j)
-      for (int i = 0; i < n.x; ++i)
-        for (int p = 0; p < 6; ++p) {
-          glm::ivec3 g(i, j, k);
-          glm::uvec4 t;
-          t[0] = id(g.x, g.y, g.z);
-          for (int s = 0; s < 3; ++s) {
-            g[kKuhn[p][s]] += 1;
-            t[s + 1] = id(g.x, g.y, g.z);
-          }
-          if (p >= 3) std::swap(t[2], t[3]);
-          set.tets.push_back(t);
-        }
-  return set;
-}
-
 glm::dvec3 tet_centroid(const TetSet& set, std::uint32_t t) {
   const glm::uvec4& k = set.tets[t];
   return 0.25 * (set.positions[k.x] + set.positions[k.y] + set.positions[k.z] + set.positions[k.w]);
-}
-
-double tet_volume(const TetSet& set, std::uint32_t t) {
-  const glm::uvec4& k = set.tets[t];
-  const glm::dvec3 a = set.positions[k.x];
-  return glm::dot(set.positions[k.y] - a, glm::cross(set.positions[k.z] - a, set.positions[k.w] - a)) / 6.0;
 }
 
 VertexTets vertex_tets(const TetSet& set) {
@@ -154,33 +118,6 @@ TetFaces tet_faces(const TetSet& set) {
     }
   }
   return faces;
-}
-
-void keep_largest_part(TetSet& set) {
-  const TetFaces faces = tet_faces(set);
-  std::vector<std::uint32_t> root(set.tets.size());
-  std::iota(root.begin(), root.end(), 0u);
-  const auto find = [&root](std::uint32_t x) {
-    while (root[x] != x) x = root[x] = root[root[x]];
-    return x;
-  };
-  for (const glm::uvec2& t : faces.interior_tets) {
-    const std::uint32_t a = find(t.x), b = find(t.y);
-    root[std::max(a, b)] = std::min(a, b);
-  }
-  std::vector<std::size_t> size(set.tets.size(), 0);
-  for (std::uint32_t t = 0; t < set.tets.size(); ++t) ++size[find(t)];
-  const std::uint32_t best = std::uint32_t(std::max_element(size.begin(), size.end()) - size.begin());
-  std::vector<std::uint32_t> id(set.positions.size(), 0xffffffffu);
-  TetSet out;
-  for (std::uint32_t t = 0; t < set.tets.size(); ++t)
-    if (find(t) == best)
-      for (int c = 0; c < 4; ++c) id[set.tets[t][c]] = 0;
-  for (std::uint32_t v = 0; v < set.positions.size(); ++v)
-    if (id[v] == 0) id[v] = std::uint32_t(out.positions.size()), out.positions.push_back(set.positions[v]);
-  for (std::uint32_t t = 0; t < set.tets.size(); ++t)
-    if (find(t) == best) out.tets.push_back({id[set.tets[t].x], id[set.tets[t].y], id[set.tets[t].z], id[set.tets[t].w]});
-  set = std::move(out);
 }
 
 }  // namespace fracref::scenegen_detail

@@ -13,6 +13,8 @@
 
 #include "geom/bvh.hpp"
 
+#include "coarse/tet_lattice.hpp"
+
 namespace fracref::scenegen_detail {
 
 /// splitmix64: a small seeded generator (no std distributions, so the output is the same on
@@ -66,11 +68,8 @@ double mesh_volume(const TriMesh& mesh);
 // ------------------------------------------------------------------------------------------------
 // Coarse tet meshes: lattice.cpp (tet sets, the Kuhn lattice), cylinder.cpp, stuffing.cpp
 
-/// Tets on their vertices, each positively oriented (det[b-a, c-a, d-a] > 0).
-struct TetSet {
-  std::vector<glm::dvec3> positions;
-  std::vector<glm::uvec4> tets;
-};
+using TetSet = fracref::TetSet;  // coarse/tet_lattice.hpp
+using LatticeSpec = fracref::LatticeSpec;
 
 /// Faces of a TetSet: interior faces (two tets) and hull faces (one tet, wound outward).
 struct TetFaces {
@@ -87,16 +86,6 @@ TetFaces tet_faces(const TetSet& set);
 /// (a, b) with a < b, then vertices whose faces form more than one fan, as (v, v).
 std::vector<std::pair<std::uint32_t, std::uint32_t>> surface_defects(const std::vector<glm::uvec3>& faces);
 
-/// The lattice: `cells` cubes (boxes) over [lo, hi], each split into the 6 tets of the Kuhn
-/// (Freudenthal) triangulation, conforming across cubes.
-struct LatticeSpec {
-  glm::dvec3 lo{0.0}, hi{1.0};
-  glm::ivec3 cells{1, 1, 1};
-};
-
-/// Every tet of the lattice (the box [lo, hi] filled), vertices in lattice order (x fastest).
-TetSet box_lattice(const LatticeSpec& spec);
-
 /// A capped cylinder about z, z in [-length/2, length/2], filled with tets: a disc of rings of
 /// `ring_counts` vertices (the first 1: the centre) at evenly spaced radii, extruded over
 /// `layers` layers, each prism split into 3 tets by vertex order (conforming). The outer ring's
@@ -105,19 +94,9 @@ TetSet box_lattice(const LatticeSpec& spec);
 /// Vertices are numbered layer by layer (z ascending), disc order within a layer.
 TetSet cylinder_tets(double radius, double length, const std::vector<int>& ring_counts, int layers);
 
-/// The inside of a closed exterior as tets whose hull vertices lie on it: the lattice tets cut
-/// by the exterior (marching tetrahedra on the inside/outside sign of the lattice vertices, the
-/// crossing of each lattice edge found on the exterior), after warping each lattice vertex that
-/// has a crossing closer than `warp` times that edge's length onto the nearest one (isosurface
-/// stuffing, Labelle and Shewchuk 2007, on the Kuhn lattice). Cut prisms and pyramids are split
-/// by vertex ids, so the tets conform. Only the largest face-connected part is kept.
-/// \pre the lattice box contains the exterior with room.
+/// coarse/tet_lattice.hpp's stuffed_tets on a TriMesh, and its hull must be a 2-manifold.
 /// \throw RunError when no tet is inside, or the hull is not a 2-manifold.
 TetSet stuffed_tets(const TriMesh& exterior, const LatticeSpec& spec, double warp);
-
-/// Keeps the largest face-connected part of the tets (ties to the one with the lowest tet),
-/// vertices compacted in their order.
-void keep_largest_part(TetSet& set);
 
 /// Per vertex, the tets that use it (CSR).
 struct VertexTets {
@@ -126,7 +105,6 @@ struct VertexTets {
 VertexTets vertex_tets(const TetSet& set);
 
 glm::dvec3 tet_centroid(const TetSet& set, std::uint32_t t);
-double tet_volume(const TetSet& set, std::uint32_t t);
 
 // ------------------------------------------------------------------------------------------------
 // Pieces, labels.cpp

@@ -1,15 +1,13 @@
 #pragma once
-// Tets of the inside of a closed exterior, for the cuts input (cuts_model.cpp). A copy of the
-// isosurface-stuffing mesher of src/scenegen (stuffing.cpp, and box_lattice / keep_largest_part
-// of lattice.cpp): the scenegen room links coarse, so coarse cannot link it back. Keep the two
-// in step when one changes. Not part of the public API.
+// Tet meshes of a closed exterior's inside: the Kuhn lattice and isosurface stuffing (Labelle and
+// Shewchuk 2007). Used by the cuts input (cuts_model.cpp) and by the demo scene generator.
 #include <array>
 #include <cstdint>
 #include <vector>
 
 #include <glm/glm.hpp>
 
-namespace fracref::cuts_detail {
+namespace fracref {
 
 /// Tets on their vertices, each positively oriented (det[b-a, c-a, d-a] > 0).
 struct TetSet {
@@ -38,10 +36,13 @@ InteriorFaces interior_faces(const TetSet& set);
 void keep_largest_part(TetSet& set);
 
 /// The inside of the closed, outward exterior (positions, triangles) as tets whose hull lies on
-/// it: isosurface stuffing on the Kuhn lattice `spec` (see scenegen_internal.hpp, stuffed_tets),
+/// it: the lattice tets cut by the exterior (marching tetrahedra on the inside/outside sign of the
+/// lattice vertices), after warping each lattice vertex that has a crossing closer than `warp`
+/// times that edge's length onto the nearest one; cut prisms and pyramids are split by vertex
+/// ids so the tets conform;
 /// largest part only. \pre the lattice box contains the exterior with room.
 /// \throw RunError when no tet is inside.
 TetSet stuffed_tets(const std::vector<glm::dvec3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles,
                     const LatticeSpec& spec, double warp);
 
-}  // namespace fracref::cuts_detail
+}  // namespace fracref

@@ -1,4 +1,3 @@
-// Copied from src/scenegen/stuffing.cpp and lattice.cpp (see cuts_internal.hpp for why).
 // A tet mesh whose hull lies on the exterior: lattice tets cut by the exterior (marching
 // tetrahedra on the inside/outside sign), after warping lattice vertices that lie close to the
 // exterior onto it, in the manner of isosurface stuffing (Labelle and Shewchuk 2007).
@@ -8,10 +7,10 @@
 #include <numeric>
 
 #include "geom/bvh.hpp"
-#include "coarse/cuts_internal.hpp"
+#include "coarse/tet_lattice.hpp"
 #include "util/error.hpp"
 
-namespace fracref::cuts_detail {
+namespace fracref {
 namespace {
 
 constexpr int kTetFaces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
@@ -195,7 +194,7 @@ TetSet Stuffer::run() {
     set.tets.push_back({id[t.x], id[t.y], id[t.z], id[t.w]});
     if (tet_volume(set, std::uint32_t(set.tets.size() - 1)) < 0.0) std::swap(set.tets.back().z, set.tets.back().w);
   }
-  if (set.tets.empty()) throw RunError("cuts: no lattice tet lies inside the exterior");
+  if (set.tets.empty()) throw RunError("stuffing: no lattice tet lies inside the exterior");
   keep_largest_part(set);
   return set;
 }
@@ -285,4 +284,4 @@ void keep_largest_part(TetSet& set) {
   set = std::move(out);
 }
 
-}  // namespace fracref::cuts_detail
+}  // namespace fracref
