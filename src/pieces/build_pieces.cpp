@@ -14,6 +14,9 @@ using namespace pieces_detail;
 using Tri = std::array<std::uint32_t, 3>;
 using DirectedEdge = std::pair<std::uint32_t, std::uint32_t>;
 
+// Faces that build_pieces may leave out or trace in their plane before it gives up.
+constexpr std::size_t kMaxRetries = 64;
+
 std::string vertex_pair(std::uint32_t a, std::uint32_t b) { return std::to_string(a) + "-" + std::to_string(b); }
 
 // S with its derived arrays rebuilt (a caller may hand it over stale), if its invariants hold.
@@ -31,13 +34,30 @@ FractureSurface checked(const FractureSurface& s) {
   return copy;
 }
 
+// A face of S whose fracture polygon cannot be triangulated. build_pieces starts again with the
+// face left out when it has two or three boundary edges (a flap: all its corners lie on B), or
+// with its boundary edge traced along the face's normal when it has one.
+struct UntriangulatedFace : RunError {
+  UntriangulatedFace(const std::string& what, std::uint32_t input_face, bool is_flap)
+      : RunError(what), face(input_face), flap(is_flap) {}
+  std::uint32_t face;
+  bool flap;
+};
+
+// What build_pieces changes between attempts (faces in input numbering).
+struct Retries {
+  std::vector<std::uint32_t> left_out;  // flaps to leave out
+  std::vector<std::uint32_t> along_normal;  // faces whose boundary edge is traced along their normal
+};
+
 class PieceBuilder {
  public:
-  PieceBuilder(const FractureSurface& s, const MeshSoup& exterior, const PieceOptions& options)
-      : m_(make_exterior_mesh(exterior)),
+  PieceBuilder(const FractureSurface& s, const ExteriorMesh& m, const PieceOptions& options, const Retries& retries)
+      : m_(m),
         options_(options),
-        s_(repair_boundary(checked(s), m_, options.merge_tolerance * m_.diagonal, options.remove_flaps,
-                           options.snap_tolerance * m_.diagonal, repair_)) {
+        retries_(retries),
+        s_(repair_boundary(s, m_, options.merge_tolerance * m_.diagonal, options.remove_flaps,
+                           options.snap_tolerance * m_.diagonal, retries.left_out, repair_)) {
     out_.boundary_edges_merged = repair_.collapsed;
     out_.flaps_removed = repair_.flaps_removed;
   }
@@ -113,14 +133,21 @@ class PieceBuilder {
   }
 
   // The global id of an intermediate point of the trace of S edge p-q.
-  std::uint32_t trace_point(const Location& loc, std::uint32_t p, std::uint32_t q) {
+  std::uint32_t trace_point(const TraceStep& step, std::uint32_t p, std::uint32_t q, const std::vector<EdgeTrace>& traces) {
+    const Location& loc = step.to;
     if (loc.kind == Location::kVertex) {
       if (b_owner_[loc.id] != kNone)
         throw RunError("the trace of fracture surface boundary edge " + vertex_pair(p, q) +
                        " runs through fracture surface vertex " + std::to_string(b_owner_[loc.id]));
       return cut_.b_vertex_gid[loc.id];
     }
-    if (loc.kind != Location::kEdge) throw RunError("the trace of boundary edge " + vertex_pair(p, q) + " stopped inside a triangle");
+    if (loc.kind == Location::kFace) {
+      if (step.clear_of == kNone) throw RunError("the trace of boundary edge " + vertex_pair(p, q) + " stopped inside a triangle");
+      const std::uint32_t id = new_vertex(loc.point, kRoutePoint, &loc);
+      cut_.face_points[loc.id].push_back(id);
+      out_.route_points.push_back({id, p, q, 0.0, loc.id, loc.bary, traces[step.clear_of].p, traces[step.clear_of].q});
+      return id;
+    }
     const std::uint32_t id = new_vertex(loc.point, kCrossing, &loc);
     cut_.edge_points[loc.id].emplace_back(loc.t, id);
     CrossingPoint c;
@@ -135,6 +162,7 @@ class PieceBuilder {
   }
 
   void trace_boundary() {
+    std::vector<EdgeTrace> traces;
     for (std::uint32_t e = 0; e < s_.edges.size(); ++e) {
       if (s_.edge_special[e] != kEdgeBoundary) continue;
       const std::uint32_t f = s_.ef_faces[s_.ef_offsets[e]];
@@ -143,34 +171,53 @@ class PieceBuilder {
       while (!((face[k] == s_.edges[e].x || face[k] == s_.edges[e].y) &&
                (face[(k + 1) % 3] == s_.edges[e].x || face[(k + 1) % 3] == s_.edges[e].y)))
         ++k;
-      trace_edge(f, k, face[k], face[(k + 1) % 3]);
+      traces.push_back(trace_edge(f, k, face[k], face[(k + 1) % 3]));
     }
+    out_.traces_rerouted = untangle_traces(m_, traces, options_.plane_epsilon * m_.diagonal, options_.location_epsilon);
+    for (const EdgeTrace& t : traces) insert_trace(t, traces);
   }
 
-  void trace_edge(std::uint32_t f, int k, std::uint32_t p, std::uint32_t q) {
-    Trace trace;
+  EdgeTrace trace_edge(std::uint32_t f, int k, std::uint32_t p, std::uint32_t q) const {
+    EdgeTrace out{f, k, p, q, {}};
+    // When the fan from the opposite corner c failed (a face meeting B at a slant, its trace
+    // bending past c), the edge is traced in the plane through it along the face's normal: the
+    // fan then sees the trace where it sees the edge.
+    glm::dvec3 plane(0.0);
+    if (std::count(retries_.along_normal.begin(), retries_.along_normal.end(), repair_.face_origin[f])) {
+      const glm::dvec3 d = out_.positions[q] - out_.positions[p], c = out_.positions[s_.faces[f][(k + 2) % 3]];
+      plane = glm::cross(d, glm::cross(d, c - out_.positions[p]));
+    }
     try {
-      trace = trace_on_exterior(m_, cut_.location[p], cut_.location[q], options_.plane_epsilon * m_.diagonal);
+      out.trace = trace_on_exterior(m_, cut_.location[p], cut_.location[q], options_.plane_epsilon * m_.diagonal, plane);
     } catch (const RunError& err) {
       throw RunError("fracture surface boundary edge " + vertex_pair(p, q) + " (face " + std::to_string(repair_.face_origin[f]) + ") from " +
                      format_point(out_.positions[p]) + " to " + format_point(out_.positions[q]) +
                      " cannot be traced on the exterior: " + err.what());
     }
-    const std::size_t first_crossing = out_.crossings.size();
+    return out;
+  }
+
+  // The trace's points become vertices and its segments cut edges; crossing and route points
+  // learn how far along the trace they lie.
+  void insert_trace(const EdgeTrace& t, const std::vector<EdgeTrace>& traces) {
+    const std::uint32_t p = t.p, q = t.q;
+    const std::size_t first_crossing = out_.crossings.size(), first_route = out_.route_points.size();
     std::vector<std::uint32_t> path{p};
-    for (std::size_t i = 0; i + 1 < trace.steps.size(); ++i) path.push_back(trace_point(trace.steps[i].to, p, q));
+    for (std::size_t i = 0; i + 1 < t.trace.steps.size(); ++i) path.push_back(trace_point(t.trace.steps[i], p, q, traces));
     path.push_back(q);
     std::vector<double> along(path.size(), 0.0);
-    for (std::size_t i = 0; i < trace.steps.size(); ++i) {
-      cut_.segments.push_back({path[i], path[i + 1], trace.steps[i].face, p, q});
+    for (std::size_t i = 0; i < t.trace.steps.size(); ++i) {
+      cut_.segments.push_back({path[i], path[i + 1], t.trace.steps[i].face, p, q});
       along[i + 1] = along[i] + glm::length(out_.positions[path[i + 1]] - out_.positions[path[i]]);
-      mark_cut(path[i], path[i + 1], f, p, q);
+      mark_cut(path[i], path[i + 1], t.s_face, p, q);
     }
-    for (std::size_t c = first_crossing, i = 1; c < out_.crossings.size(); ++c) {
-      while (path[i] != out_.crossings[c].vertex) ++i;
-      out_.crossings[c].along = along[i] / along.back();
-    }
-    paths_[{f, k}] = std::vector<std::uint32_t>(path.begin() + 1, path.end() - 1);
+    auto fraction = [&](std::uint32_t vertex) {
+      return along[std::size_t(std::find(path.begin(), path.end(), vertex) - path.begin())] / along.back();
+    };
+    for (std::size_t c = first_crossing; c < out_.crossings.size(); ++c) out_.crossings[c].along = fraction(out_.crossings[c].vertex);
+    for (std::size_t r = first_route; r < out_.route_points.size(); ++r)
+      out_.route_points[r].along = fraction(out_.route_points[r].vertex);
+    paths_[{t.s_face, t.side}] = std::vector<std::uint32_t>(path.begin() + 1, path.end() - 1);
   }
 
   // A patch face using (a, b) in the winding of S face f lies in f's front piece.
@@ -197,6 +244,22 @@ class PieceBuilder {
     }
   }
 
+  int boundary_sides(std::uint32_t f) const {
+    int n = 0;
+    for (int k = 0; k < 3; ++k) n += s_.edge_special[s_.face_edges[3 * f + std::uint32_t(k)]] == kEdgeBoundary;
+    return n;
+  }
+
+  // The way face f faces, which its fracture polygon must keep; none (zero) for a needle-thin
+  // face, whose own normal is noise next to the bends of its traces.
+  glm::dvec3 orientation(std::uint32_t f) const {
+    const glm::uvec4 t = s_.faces[f];
+    const glm::dvec3 a = out_.positions[t.x], b = out_.positions[t.y], c = out_.positions[t.z];
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+    return glm::length(n) < kNeedle * longest * longest ? glm::dvec3(0.0) : n;
+  }
+
   void remesh_fracture_faces() {
     s_triangles_.resize(s_.faces.size());
     for (std::uint32_t f = 0; f < s_.faces.size(); ++f) {
@@ -210,17 +273,20 @@ class PieceBuilder {
       std::vector<glm::dvec3> xyz;
       for (std::uint32_t g : polygon) xyz.push_back(out_.positions[g]);
       const glm::uvec4 t = s_.faces[f];
-      const glm::dvec3 normal = glm::cross(out_.positions[t.y] - out_.positions[t.x], out_.positions[t.z] - out_.positions[t.x]);
+      const glm::dvec3 normal = orientation(f);
       FracturePolygon result;
       try {
         result = triangulate_fracture_polygon(xyz, mask, normal, flat_on_exterior_);
       } catch (const RunError& err) {
-        throw RunError("fracture surface face " + std::to_string(repair_.face_origin[f]) + " near " + format_point(xyz[0]) +
-                       ": cannot insert the traced boundary points: " + err.what());
+        const std::string what = "fracture surface face " + std::to_string(repair_.face_origin[f]) + " near " +
+                                 format_point(xyz[0]) + ": cannot insert the traced boundary points: " + err.what();
+        const int sides = boundary_sides(f);
+        if (sides == 1 || (sides >= 2 && options_.remove_flaps)) throw UntriangulatedFace(what, repair_.face_origin[f], sides >= 2);
+        throw RunError(what);
       }
       if (result.centre_added) {
         polygon.push_back(new_vertex(result.centre, kFaceCentre, nullptr));
-        out_.face_centres.push_back({polygon.back(), repair_.face_origin[f], {t.x, t.y, t.z}});
+        out_.face_centres.push_back({polygon.back(), repair_.face_origin[f], {t.x, t.y, t.z}, result.centre_weights});
       }
       for (const Tri& r : result.triangles) s_triangles_[f].push_back({polygon[r[0]], polygon[r[1]], polygon[r[2]]});
     }
@@ -320,8 +386,9 @@ class PieceBuilder {
     }
   }
 
-  ExteriorMesh m_;
+  const ExteriorMesh& m_;
   PieceOptions options_;
+  const Retries& retries_;
   RepairReport repair_;
   FractureSurface s_;  // the input after repair_boundary
   PieceSet out_;
@@ -343,7 +410,20 @@ class PieceBuilder {
 }  // namespace
 
 PieceSet build_pieces(const FractureSurface& s, const MeshSoup& exterior, const PieceOptions& options) {
-  return PieceBuilder(s, exterior, options).run();
+  const ExteriorMesh m = make_exterior_mesh(exterior);
+  const FractureSurface input = checked(s);
+  Retries retries;
+  for (;;) {
+    try {
+      return PieceBuilder(input, m, options, retries).run();
+    } catch (const UntriangulatedFace& failed) {
+      std::vector<std::uint32_t>& list = failed.flap ? retries.left_out : retries.along_normal;
+      if (retries.left_out.size() + retries.along_normal.size() >= kMaxRetries ||
+          std::count(list.begin(), list.end(), failed.face))
+        throw RunError(failed.what());
+      list.push_back(failed.face);
+    }
+  }
 }
 
 }  // namespace fracref

@@ -9,26 +9,6 @@
 namespace fracref::pieces_detail {
 namespace {
 
-// Points of side 1 (corner 1 at (1, 0) to corner 2 at (0, 1)) get x + y == 1 exactly: the
-// coordinate >= 0.5 is computed from the other by an exact subtraction (Sterbenz).
-glm::dvec2 diagonal_from_y(double y) {
-  if (y >= 0.5) return {1.0 - y, y};
-  const double x = 1.0 - y;
-  return {x, 1.0 - x};
-}
-glm::dvec2 diagonal_from_x(double x) {
-  const glm::dvec2 p = diagonal_from_y(x);
-  return {p.y, p.x};
-}
-
-// The barycentric-plane position of the point at t on side k's edge; `forward` when the side
-// runs from the edge's lower vertex.
-glm::dvec2 side_uv(int k, bool forward, double t) {
-  if (k == 0) return {forward ? t : 1.0 - t, 0.0};
-  if (k == 1) return forward ? diagonal_from_y(t) : diagonal_from_x(t);
-  return {0.0, forward ? 1.0 - t : t};
-}
-
 std::string edge_name(const ExteriorMesh& m, std::uint32_t e) {
   return std::to_string(m.edges[e].x) + "-" + std::to_string(m.edges[e].y);
 }

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 #include "pieces/pieces_internal.hpp"
@@ -77,6 +78,18 @@ void build_vertex_faces(ExteriorMesh& m) {
   std::vector<std::uint32_t> fill(m.vf_offsets.begin(), m.vf_offsets.end() - 1);
   for (std::uint32_t f = 0; f < m.triangles.size(); ++f)
     for (std::uint32_t v : m.triangles[f]) m.vf_faces[fill[v]++] = f;
+}
+
+// Points of side 1 (corner 1 at (1, 0) to corner 2 at (0, 1)) get x + y == 1 exactly: the
+// coordinate >= 0.5 is computed from the other by an exact subtraction (Sterbenz).
+glm::dvec2 diagonal_from_y(double y) {
+  if (y >= 0.5) return {1.0 - y, y};
+  const double x = 1.0 - y;
+  return {x, 1.0 - x};
+}
+glm::dvec2 diagonal_from_x(double x) {
+  const glm::dvec2 p = diagonal_from_y(x);
+  return {p.y, p.x};
 }
 
 double corner_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
@@ -224,6 +237,23 @@ Location locate_on_exterior(const ExteriorMesh& m, const glm::dvec3& p, double e
   loc.bary = w;
   loc.point = w.x * m.positions[t[0]] + w.y * m.positions[t[1]] + w.z * m.positions[t[2]];
   return loc;
+}
+
+glm::dvec2 side_uv(int k, bool forward, double t) {
+  if (k == 0) return {forward ? t : 1.0 - t, 0.0};
+  if (k == 1) return forward ? diagonal_from_y(t) : diagonal_from_x(t);
+  return {0.0, forward ? 1.0 - t : t};
+}
+
+glm::dvec2 location_uv(const ExteriorMesh& m, const Location& loc, std::uint32_t f) {
+  static const glm::dvec2 corners[3] = {{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}};
+  const auto& t = m.triangles[f];
+  if (loc.kind == Location::kFace) return {loc.bary.y, loc.bary.z};
+  for (int k = 0; k < 3; ++k) {
+    if (loc.kind == Location::kVertex && t[k] == loc.id) return corners[k];
+    if (loc.kind == Location::kEdge && m.face_edges[f][k] == loc.id) return side_uv(k, m.edges[loc.id].x == t[k], loc.t);
+  }
+  return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
 }
 
 std::string format_point(const glm::dvec3& p) {

@@ -16,6 +16,9 @@ namespace {
 
 using Tri = std::array<std::uint32_t, 3>;
 
+// The barycentric grid searched for a face centre when the centroid does not see every side.
+constexpr int kCentreGrid = 12;
+
 double min_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
   auto angle = [](const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& r) {
     const glm::dvec3 u = q - p, v = r - p;
@@ -51,6 +54,7 @@ class EarClipper {
   // Every side of the polygon joined to a point inside it (index xyz_.size()).
   std::vector<Tri> centre_fan(const glm::dvec3& centre) {
     const std::uint32_t n = std::uint32_t(xyz_.size());
+    uv_.resize(n);
     uv_.push_back(project(centre));
     std::vector<Tri> out;
     for (std::uint32_t i = 0; i < n; ++i) {
@@ -59,6 +63,20 @@ class EarClipper {
       out.push_back(t);
     }
     return out;
+  }
+
+  // The smallest distance from the projection of x to the lines of the polygon's sides,
+  // negative when x lies to the right of one (does not see it).
+  double clearance(const glm::dvec3& x) const {
+    const glm::dvec2 c = project(x);
+    double least = std::numeric_limits<double>::infinity();
+    const std::size_t n = xyz_.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const glm::dvec2 a = uv_[i], d = uv_[(i + 1) % n] - a;
+      const double len = glm::length(d);
+      if (len > 0.0) least = std::min(least, (d.x * (c.y - a.y) - d.y * (c.x - a.x)) / len);
+    }
+    return least;
   }
 
   std::vector<Tri> clip() {
@@ -123,7 +141,7 @@ FracturePolygon triangulate_fracture_polygon(const std::vector<glm::dvec3>& poly
   // which sees a path bending around a crease of B better than the plane of the corners does.
   glm::dvec3 area(0.0);
   for (std::size_t i = 0; i < polygon.size(); ++i) area += glm::cross(polygon[i], polygon[(i + 1) % polygon.size()]);
-  if (!(glm::dot(area, normal) > 0.0)) throw RunError("the traced boundary folds over the face");
+  if (normal != glm::dvec3(0.0) && !(glm::dot(area, normal) > 0.0)) throw RunError("the traced boundary folds over the face");
   EarClipper clipper(polygon, side_mask, area, flat);
   try {
     // One cut side: the fan from the corner off that side is the only allowed triangulation.
@@ -141,14 +159,31 @@ FracturePolygon triangulate_fracture_polygon(const std::vector<glm::dvec3>& poly
     return out;
   } catch (const RunError& by_sides) {
     // A face with all corners on B whose traces bend over a crease: no triangle among its own
-    // points avoids lying flat on B, so every side is joined to the face's centroid.
-    glm::dvec3 centre(0.0);
+    // points avoids lying flat on B, so every side is joined to a point of the face's triangle:
+    // its centroid, or else the point of a barycentric grid that sees every side best (a
+    // needle-thin face whose traces bend toward its centroid).
+    std::array<std::size_t, 3> corner{};
     int corners = 0;
-    for (std::size_t i = 0; i < polygon.size(); ++i)
-      if (std::popcount(side_mask[i] & 7u) == 2) centre += polygon[i], ++corners;
+    for (std::size_t i = 0; i < polygon.size() && corners <= 3; ++i)
+      if (std::popcount(side_mask[i] & 7u) == 2) {
+        if (corners < 3) corner[std::size_t(corners)] = i;
+        ++corners;
+      }
     if (corners != 3) throw;
+    auto at = [&](const glm::dvec3& w) { return w.x * polygon[corner[0]] + w.y * polygon[corner[1]] + w.z * polygon[corner[2]]; };
+    glm::dvec3 weights(1.0 / 3.0);
+    if (!(clipper.clearance(at(weights)) > 0.0)) {
+      double best = 0.0;
+      for (int i = 1; i < kCentreGrid; ++i)
+        for (int j = 1; i + j < kCentreGrid; ++j) {
+          const glm::dvec3 w(double(i) / kCentreGrid, double(j) / kCentreGrid, double(kCentreGrid - i - j) / kCentreGrid);
+          const double c = clipper.clearance(at(w));
+          if (c > best) best = c, weights = w;
+        }
+    }
     try {
-      out.centre = centre / 3.0;
+      out.centre = weights == glm::dvec3(1.0 / 3.0) ? (polygon[corner[0]] + polygon[corner[1]] + polygon[corner[2]]) / 3.0 : at(weights);
+      out.centre_weights = weights;
       out.triangles = clipper.centre_fan(out.centre);
       out.centre_added = true;
       return out;

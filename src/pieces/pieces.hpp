@@ -20,12 +20,24 @@
 //     B edges (an S boundary edge lying on a B edge) without creating slivers. When the walk
 //     cannot reach q (a non-convex B folding away from the plane) it is retried with the normal
 //     at p alone, then at q alone, before giving up.
+// 2b. Untangle. Where the boundary of S doubles back on B (a spike whose two sides run a hair
+//     apart, a zigzag of short edges), the trace of one edge can pass points of its neighbours'
+//     traces on the wrong side and cross them (by float noise, or because a long edge's plane
+//     cut bends away from its chord). Traces that cross or touch are found exactly
+//     (orientation tests in each B triangle's barycentric plane). The right side is taken where
+//     the neighbouring traces are farthest from the trace (within a tenth of its chord), and
+//     the trace is re-traced leg by leg through route points on B a small offset past every
+//     neighbouring point it passed on the wrong side or too closely. Repeated until no conflict
+//     is left or none can be resolved.
 //  3. Insert. The crossings become new vertices shared by B and S: each cut B triangle is
 //     re-triangulated in its own barycentric plane (a constrained triangulation, exact
 //     orientation tests, Delaunay flips for shape), and each face of S on a traced edge becomes
 //     a polygon re-triangulated by ear clipping (never a triangle lying along B: for one cut edge
 //     this is the fan from the opposite corner; a face with all corners on B whose trace bends
-//     over a crease of B is fanned from its centroid, see FaceCentre).
+//     over a crease of B is fanned from its centroid, see FaceCentre). The polygon must keep
+//     the face's orientation (not judged for a needle-thin face, whose normal is noise). A face
+//     with two or three boundary edges whose polygon cannot be triangulated (its traces wind
+//     around its chord over bumps of B) is left out like a flap, and the build starts again.
 //  4. Patches. The cut B is flood-filled across its edges that are not on a trace. A patch face
 //     using the directed cut edge (x, y) in the winding direction of the S face on that edge
 //     belongs to that face's front piece, in the opposite direction to its back piece; every cut
@@ -52,12 +64,18 @@ inline constexpr std::int64_t kCrossing = std::numeric_limits<std::int64_t>::min
 /// vertex_origin value of a vertex added at the centroid of a fracture face (see FaceCentre).
 inline constexpr std::int64_t kFaceCentre = kCrossing + 1;
 
-/// A vertex added at the centroid of a face of S whose corners all lie on B and whose traced
-/// boundary bends over a crease of B: no triangle among the face's own points would stay off B.
+/// vertex_origin value of a route point inside a B triangle (see RoutePoint).
+inline constexpr std::int64_t kRoutePoint = kCrossing + 2;
+
+/// A vertex added inside a face of S whose corners all lie on B and whose traced boundary bends
+/// over a crease of B: no triangle among the face's own points would stay off B. It is the
+/// centroid of the corners, or, for a needle-thin face whose centroid does not see every side,
+/// another point of the face's triangle.
 struct FaceCentre {
   std::uint32_t vertex = 0;               ///< index in PieceSet::positions
   std::uint32_t s_face = 0;               ///< the face of S (input numbering)
-  std::array<std::uint32_t, 3> corners{};  ///< its S vertices; the point is their mean
+  std::array<std::uint32_t, 3> corners{};  ///< its S vertices
+  glm::dvec3 weights{1.0 / 3.0};          ///< the point is the sum of weights[k] x corners[k]
 };
 
 /// A vertex inserted by the cut, where the trace of an S boundary edge crosses an edge of B.
@@ -69,13 +87,27 @@ struct CrossingPoint {
   double t = 0.0;                    ///< the point is b_from + t (b_to - b_from), t in (0, 1)
 };
 
+/// A vertex inside a B triangle through which the trace of an S boundary edge was re-routed to
+/// keep clear of the trace of a neighbouring boundary edge (step 2b). Like a crossing point it
+/// lies on B and on the side of the S face of that edge. (A route point that lands on a B edge
+/// is recorded as a CrossingPoint, one that lands on a B vertex is that vertex.)
+struct RoutePoint {
+  std::uint32_t vertex = 0;            ///< index in PieceSet::positions
+  std::uint32_t s_from = 0, s_to = 0;  ///< the S boundary edge, in the direction it was traced
+  double along = 0.0;                  ///< fraction of the trace's length from s_from, in (0, 1)
+  std::uint32_t b_face = 0;            ///< the B triangle holding it
+  glm::dvec3 bary{0.0};                ///< weights of b_face's corners at the point
+  std::uint32_t clear_from = 0, clear_to = 0;  ///< the S boundary edge whose trace it keeps clear of
+};
+
 /// One closed mesh per piece, all indexing one shared vertex array.
 struct PieceSet {
   /// Every vertex of every piece. Index layout: [0, S vertices) are the vertices of S in their
   /// order (boundary ones moved onto B, the others converted to double as they are); then the
   /// vertices of B in their order, less those an S vertex was snapped onto (that S vertex takes
-  /// their place); then the crossing points, in the order of `crossings`; then the face
-  /// centres, in the order of `face_centres`.
+  /// their place); then the crossing points and route points, in the order of the traces
+  /// (each list in `crossings` and `route_points` ascending); then the face centres, in the
+  /// order of `face_centres`.
   std::vector<glm::dvec3> positions;
   struct Piece {
     std::vector<std::array<std::uint32_t, 3>> triangles;  ///< indices into positions, outward
@@ -83,15 +115,19 @@ struct PieceSet {
   };
   std::vector<Piece> pieces;  ///< index = piece id of S
   /// Per position: >= 0 the S vertex it is; -1 - b for B vertex b; kCrossing for a crossing
-  /// point (described by `crossings`); kFaceCentre for a face centre (`face_centres`).
+  /// point (described by `crossings`); kRoutePoint for a route point (`route_points`);
+  /// kFaceCentre for a face centre (`face_centres`).
   std::vector<std::int64_t> vertex_origin;
   std::vector<CrossingPoint> crossings;  ///< ascending vertex
+  std::vector<RoutePoint> route_points;  ///< ascending vertex
   std::vector<FaceCentre> face_centres;  ///< ascending vertex
   std::uint32_t s_vertex_count = 0;      ///< vertices of S (the first positions)
   std::uint32_t snapped_to_b_vertex = 0; ///< S boundary vertices that landed on a B vertex
   std::uint32_t boundary_edges_merged = 0;  ///< short boundary edges of S contracted (their
                                             ///< removed end stays in positions, unused)
   std::uint32_t flaps_removed = 0;          ///< faces of S lying flat on B, left out
+  std::uint32_t traces_rerouted = 0;        ///< route points added by step 2b (each a
+                                            ///< RoutePoint, a CrossingPoint or a B vertex)
 };
 
 struct PieceOptions {
@@ -108,8 +144,8 @@ struct PieceOptions {
   /// the cut (0 = never): two boundary vertices a hair apart leave a face that would have to
   /// lie in B wherever the next trace bends over a crease.
   double merge_tolerance = 1e-4;
-  /// Remove faces of S with two or three boundary edges that lie flat on B (flaps): they bound
-  /// no volume and would fold a piece onto itself.
+  /// Remove faces of S with two or three boundary edges that lie flat on B, are needle-thin or
+  /// cannot be re-triangulated (flaps): they bound no volume and would fold a piece onto itself.
   bool remove_flaps = true;
 };
 

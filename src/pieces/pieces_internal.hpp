@@ -19,6 +19,10 @@ namespace fracref::pieces_detail {
 
 inline constexpr std::uint32_t kNone = 0xffffffffu;
 
+/// A triangle whose doubled area is below this fraction of its longest edge squared (its height
+/// over that edge below this fraction of it) is needle-thin: its normal is noise.
+inline constexpr double kNeedle = 0.01;
+
 /// B with the adjacency the walk needs. Side k of triangle f runs from corner k to corner k+1.
 struct ExteriorMesh {
   std::vector<glm::dvec3> positions;
@@ -64,10 +68,20 @@ Location locate_on_exterior(const ExteriorMesh& m, const glm::dvec3& p, double e
 Location edge_location(const ExteriorMesh& m, std::uint32_t e, double t);
 Location vertex_location(const ExteriorMesh& m, std::uint32_t v);
 
+/// The barycentric-plane position (see CutTriangle) of the point at parameter t of the edge on
+/// side k of a triangle; `forward` when the side runs from the edge's lower vertex.
+glm::dvec2 side_uv(int k, bool forward, double t);
+/// The position of a location in the barycentric plane of triangle f (see CutTriangle), the
+/// same coordinates cut_exterior uses. \pre location_in_face(m, loc, f).
+glm::dvec2 location_uv(const ExteriorMesh& m, const Location& loc, std::uint32_t f);
+
 /// One segment of a trace: from the previous location to `to`, inside (the closure of) `face`.
 struct TraceStep {
   Location to;
   std::uint32_t face = 0;
+  /// kNone, or `to` is a route point (see untangle_traces) that keeps this trace clear of the
+  /// trace with this index in the EdgeTrace list.
+  std::uint32_t clear_of = kNone;
 };
 
 /// The trace of one S boundary edge: the start location and the steps to the end.
@@ -78,7 +92,41 @@ struct Trace {
 
 /// Walks from p to q across B (see pieces.hpp, step 2).
 /// \throw RunError with the reason (the caller names the S edge).
-Trace trace_on_exterior(const ExteriorMesh& m, const Location& p, const Location& q, double plane_tolerance);
+Trace trace_on_exterior(const ExteriorMesh& m, const Location& p, const Location& q, double plane_tolerance,
+                        const glm::dvec3& first_plane = glm::dvec3(0.0));
+
+/// The trace of the S boundary edge p -> q, side `side` of S face `s_face` (in its winding).
+struct EdgeTrace {
+  std::uint32_t s_face = 0;
+  int side = 0;
+  std::uint32_t p = 0, q = 0;
+  Trace trace;
+};
+
+/// Two segments of different traces (or of one trace, not neighbours) that cross or touch
+/// inside one B triangle (exact orientation tests in its barycentric plane).
+struct TraceConflict {
+  std::uint32_t face = 0;
+  std::uint32_t trace_a = 0, step_a = 0;
+  std::uint32_t trace_b = 0, step_b = 0;
+};
+
+/// Every pair of conflicting segments, in a deterministic order (by B triangle, then traces).
+std::vector<TraceConflict> find_trace_conflicts(const ExteriorMesh& m, const std::vector<EdgeTrace>& traces);
+
+/// Re-routes traces that cross or touch (pieces.hpp, step 2b). Where the boundary of S doubles
+/// back on B (a spike, a zigzag of short edges), the trace X of one edge runs a hair from a
+/// chain Y of neighbouring traces (the other trace of the conflict and those joined to it at S
+/// vertices near X) and, by float noise or the plane cut's bend, passes some of Y's points on
+/// the wrong side. The right side is the side of the point of Y (within a tenth of X's chord
+/// of X) farthest from X; every point of Y on the wrong side, or nearer to X than an offset
+/// eps, gets a route point eps past it on the right side, and X is re-traced through them leg
+/// by leg. eps is a quarter of that farthest distance, at most a tenth of the shortest chord
+/// involved. One conflict is resolved at a time, the better separated choice of X first.
+/// Returns the number of route points added; conflicts it cannot resolve are left for
+/// cut_exterior to report.
+std::uint32_t untangle_traces(const ExteriorMesh& m, std::vector<EdgeTrace>& traces, double plane_tolerance,
+                              double location_epsilon);
 
 /// Input of the re-triangulation of one B triangle, in its barycentric plane: corner 0 at
 /// (0, 0), corner 1 at (1, 0), corner 2 at (0, 1). Points on side 1 satisfy x + y == 1
@@ -109,6 +157,7 @@ struct FracturePolygon {
   std::vector<std::array<std::uint32_t, 3>> triangles;
   bool centre_added = false;
   glm::dvec3 centre{0.0};
+  glm::dvec3 centre_weights{0.0};  ///< of the face's corners, in polygon order: centre = their sum
 };
 
 /// Triangulates a fracture face whose sides carry trace points. `polygon` lists 3D points in
@@ -117,8 +166,10 @@ struct FracturePolygon {
 /// cut side this is the fan from the opposite corner), and none with all corners on B for
 /// which `flat` holds. When no such triangulation is found (a face with all corners on B whose
 /// traces bend over a crease of B), every side is joined to the centroid of the face's corners
-/// instead. The polygon is projected along its vector area, which must agree with `normal` (the
-/// face's); triangles come in the polygon's winding.
+/// instead, or, when the centroid does not see every side (a needle-thin face), to the point of
+/// a barycentric grid over the corners that sees them best. The polygon is projected along its
+/// vector area, which must agree with `normal` (the face's; zero: no check, for a needle-thin
+/// face whose own normal is noise); triangles come in the polygon's winding.
 /// \throw RunError with the reason (the caller names the S face).
 FracturePolygon triangulate_fracture_polygon(const std::vector<glm::dvec3>& polygon, const std::vector<unsigned>& side_mask,
                                              const glm::dvec3& normal, const FlatTest& flat = {});
@@ -152,11 +203,13 @@ struct RepairReport {
 };
 
 /// S with every boundary edge shorter than `min_edge` contracted (shortest first; the end that
-/// is kVertexOriginal, else the lower id, is kept) and, when `flaps`, every face with two or
-/// three boundary edges whose centroid lies within 0.01 x its longest edge + `tolerance` of B
-/// removed. An edit that would make S invalid (validate()) is skipped. Vertex ids are kept.
+/// is kVertexOriginal, else the lower id, is kept) and, when `flaps`, the faces of `left_out`
+/// (input numbering: faces with two or three boundary edges whose fracture polygon could not be
+/// made) and then every face with two or three boundary edges (so all corners on B) that is
+/// needle-thin or whose centroid lies within 0.01 x its longest edge + `tolerance` of B removed.
+/// An edit that would make S invalid (validate()) is skipped. Vertex ids are kept.
 FractureSurface repair_boundary(FractureSurface s, const ExteriorMesh& m, double min_edge, bool flaps,
-                                double tolerance, RepairReport& report);
+                                double tolerance, const std::vector<std::uint32_t>& left_out, RepairReport& report);
 
 /// "(x, y, z)" with 9 significant digits, for messages.
 std::string format_point(const glm::dvec3& p);

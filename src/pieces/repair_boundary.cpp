@@ -81,13 +81,16 @@ void collapse_short_edges(FractureSurface& s, std::vector<std::uint32_t>& origin
   }
 }
 
-// A face with two or three boundary edges whose centroid lies on B lies flat on B.
+// A face with two or three boundary edges has its corners on B: it lies flat on B when its
+// centroid does too, or when it is a needle (its corners nearly in a row along B; its traces
+// would wind around its chord).
 bool is_flap(const FractureSurface& s, const ExteriorMesh& m, std::uint32_t f, double tolerance) {
   int boundary = 0;
   for (int k = 0; k < 3; ++k) boundary += s.edge_special[s.face_edges[3 * f + k]] == kEdgeBoundary;
   if (boundary < 2) return false;
   const glm::dvec3 a = at(s, s.faces[f].x), b = at(s, s.faces[f].y), c = at(s, s.faces[f].z);
   const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+  if (glm::length(glm::cross(b - a, c - a)) < kNeedle * longest * longest) return true;
   const double distance = std::sqrt(closest_point(m.bvh, (a + b + c) / 3.0).squared_distance);
   return distance <= 0.01 * longest + tolerance;
 }
@@ -104,12 +107,18 @@ void remove_flaps(FractureSurface& s, std::vector<std::uint32_t>& origin, const 
 }  // namespace
 
 FractureSurface repair_boundary(FractureSurface s, const ExteriorMesh& m, double min_edge, bool flaps,
-                                double tolerance, RepairReport& report) {
+                                double tolerance, const std::vector<std::uint32_t>& left_out, RepairReport& report) {
   FractureSurface out = std::move(s);
   report.face_origin.resize(out.faces.size());
   for (std::uint32_t f = 0; f < out.faces.size(); ++f) report.face_origin[f] = f;
   if (min_edge > 0.0) collapse_short_edges(out, report.face_origin, min_edge, report.collapsed);
-  if (flaps) remove_flaps(out, report.face_origin, m, tolerance, report.flaps_removed);
+  if (!flaps) return out;
+  for (std::uint32_t face : left_out) {
+    const auto it = std::find(report.face_origin.begin(), report.face_origin.end(), face);
+    if (it != report.face_origin.end() && remove_face(out, report.face_origin, std::uint32_t(it - report.face_origin.begin())))
+      ++report.flaps_removed;
+  }
+  remove_flaps(out, report.face_origin, m, tolerance, report.flaps_removed);
   return out;
 }
 

@@ -118,17 +118,19 @@ class Walker {
 
 }  // namespace
 
-Trace trace_on_exterior(const ExteriorMesh& m, const Location& p, const Location& q, double plane_tolerance) {
+Trace trace_on_exterior(const ExteriorMesh& m, const Location& p, const Location& q, double plane_tolerance,
+                        const glm::dvec3& first_plane) {
   const glm::dvec3 d = q.point - p.point;
   const double length = glm::length(d);
   if (same_location(p, q) || length == 0.0) throw RunError("its ends lie on the same point of the exterior");
   const glm::dvec3 np = location_normal(m, p), nq = location_normal(m, q);
-  const glm::dvec3 normals[3] = {np + nq, np, nq};
+  std::vector<std::pair<glm::dvec3, double>> planes;  // (normal, the length it has for a plane at right angles)
+  if (glm::length(first_plane) > 0.0) planes.emplace_back(first_plane, glm::length(first_plane));
+  for (const glm::dvec3& n : {np + nq, np, nq}) planes.emplace_back(glm::cross(d, n), length * glm::length(n));
   std::string first_reason;
-  for (const glm::dvec3& n : normals) {
-    const glm::dvec3 plane = glm::cross(d, n);
+  for (const auto& [plane, scale] : planes) {
     const double len = glm::length(plane);
-    if (!(len > 1e-9 * length * glm::length(n))) continue;  // edge along the normal: no plane
+    if (!(len > 1e-9 * scale)) continue;  // edge along the normal: no plane
     Trace trace;
     std::string why;
     Walker walker(m, p, q, plane / len, plane_tolerance);
