@@ -14,8 +14,14 @@ using namespace pieces_detail;
 using Tri = std::array<std::uint32_t, 3>;
 using DirectedEdge = std::pair<std::uint32_t, std::uint32_t>;
 
-// Faces that build_pieces may leave out or trace in their plane before it gives up.
-constexpr std::size_t kMaxRetries = 64;
+// Attempts build_pieces makes (leaving out flaps, re-tracing, pushing) before it gives up.
+constexpr std::size_t kMaxAttempts = 64;
+// Pokes out of B shallower than this (relative to B's diagonal) are float noise.
+constexpr double kPokeTolerance = 1e-6;
+// A vertex is pushed inward at most this fraction of its shortest edge, in this many rounds.
+constexpr double kMaxPush = 1.0;
+constexpr double kPushFactor = 1.25;
+constexpr std::size_t kMaxPushRounds = 8;
 
 std::string vertex_pair(std::uint32_t a, std::uint32_t b) { return std::to_string(a) + "-" + std::to_string(b); }
 
@@ -44,10 +50,58 @@ struct UntriangulatedFace : RunError {
   bool flap;
 };
 
+// Fracture triangles poking out of B: build_pieces starts again with their S vertices off B
+// pushed inward, twice as far as the deepest poke (a vertex at most a quarter of its shortest
+// edge in all).
+struct PokingOut : RunError {
+  struct Vertex {
+    double depth, limit;
+    glm::dvec3 at;
+  };
+  explicit PokingOut(std::map<std::uint32_t, Vertex> v) : RunError("poking out"), vertices(std::move(v)) {}
+  std::map<std::uint32_t, Vertex> vertices;
+};
+
 // What build_pieces changes between attempts (faces in input numbering).
 struct Retries {
   std::vector<std::uint32_t> left_out;  // flaps to leave out
-  std::vector<std::uint32_t> along_normal;  // faces whose boundary edge is traced along their normal
+  // Faces whose boundary edge is traced along their normal -> the push round it was decided in.
+  std::map<std::uint32_t, std::size_t> along_normal;
+  std::map<std::uint32_t, double> pushed;  // S vertex -> how far it is pushed into B
+  std::size_t push_rounds = 0, attempts = 0;
+
+  // After a face could not be triangulated; false when nothing is left to try for it.
+  bool next(const UntriangulatedFace& failed) {
+    if (failed.flap) {
+      if (std::count(left_out.begin(), left_out.end(), failed.face)) return false;
+      left_out.push_back(failed.face);
+      return true;
+    }
+    const auto it = along_normal.find(failed.face);
+    if (it == along_normal.end()) {
+      along_normal.emplace(failed.face, push_rounds);
+      return true;
+    }
+    if (it->second == push_rounds) return false;
+    along_normal.erase(it);  // S was pushed since: the usual plane may do now
+    return true;
+  }
+
+  // After fracture triangles poked out of B; false when a vertex would go too far.
+  bool next(const PokingOut& poking, std::string& why) {
+    for (const auto& [v, p] : poking.vertices) {
+      double& push = pushed[v];
+      push += kPushFactor * p.depth;
+      if (push > p.limit || push_rounds >= kMaxPushRounds) {
+        why = "the faces of fracture surface vertex " + std::to_string(v) + " at " + format_point(p.at) +
+              " poke out of the exterior by " + std::to_string(p.depth) +
+              " (the fracture surface crosses the exterior near its rim), still after pushing it inward";
+        return false;
+      }
+    }
+    ++push_rounds;
+    return true;
+  }
 };
 
 class PieceBuilder {
@@ -60,6 +114,9 @@ class PieceBuilder {
                            options.snap_tolerance * m_.diagonal, retries.left_out, repair_)) {
     out_.boundary_edges_merged = repair_.collapsed;
     out_.flaps_removed = repair_.flaps_removed;
+    out_.rim_retracted = retract_rim(s_, m_, kPokeTolerance * m_.diagonal);
+    push_inward(s_, m_, retries.pushed);
+    out_.pushed_inward = std::uint32_t(retries.pushed.size());
   }
 
   PieceSet run() {
@@ -69,6 +126,7 @@ class PieceBuilder {
     trace_boundary();
     b_triangles_ = cut_exterior(m_, cut_, out_.positions, options_.delaunay);
     remesh_fracture_faces();
+    check_poking();
     assemble(assign_patches());
     return std::move(out_);
   }
@@ -183,7 +241,7 @@ class PieceBuilder {
     // bending past c), the edge is traced in the plane through it along the face's normal: the
     // fan then sees the trace where it sees the edge.
     glm::dvec3 plane(0.0);
-    if (std::count(retries_.along_normal.begin(), retries_.along_normal.end(), repair_.face_origin[f])) {
+    if (retries_.along_normal.count(repair_.face_origin[f])) {
       const glm::dvec3 d = out_.positions[q] - out_.positions[p], c = out_.positions[s_.faces[f][(k + 2) % 3]];
       plane = glm::cross(d, glm::cross(d, c - out_.positions[p]));
     }
@@ -290,6 +348,25 @@ class PieceBuilder {
       }
       for (const Tri& r : result.triangles) s_triangles_[f].push_back({polygon[r[0]], polygon[r[1]], polygon[r[2]]});
     }
+  }
+
+  // S crosses B where a fracture triangle with a corner on B pokes out of it (S hugging B, or
+  // B concave under S's rim): its S vertices off B are to be pushed inward.
+  void check_poking() const {
+    std::vector<Tri> triangles;
+    for (const auto& t : s_triangles_) triangles.insert(triangles.end(), t.begin(), t.end());
+    const auto poking = poking_vertices(m_, out_.positions, triangles, cut_.on_b, out_.s_vertex_count, kPokeTolerance * m_.diagonal);
+    if (poking.empty()) return;
+    std::map<std::uint32_t, PokingOut::Vertex> vertices;
+    for (const auto& [v, depth] : poking) vertices[v] = {depth, std::numeric_limits<double>::infinity(), out_.positions[v]};
+    for (const glm::uvec2& e : s_.edges) {
+      const double len = glm::length(out_.positions[e.x] - out_.positions[e.y]);
+      for (std::uint32_t v : {e.x, e.y}) {
+        auto it = vertices.find(v);
+        if (it != vertices.end()) it->second.limit = std::min(it->second.limit, kMaxPush * len);
+      }
+    }
+    throw PokingOut(std::move(vertices));
   }
 
   // A triangle with its corners on B lies flat on it unless its centroid is inside B, deeper
@@ -413,15 +490,14 @@ PieceSet build_pieces(const FractureSurface& s, const MeshSoup& exterior, const 
   const ExteriorMesh m = make_exterior_mesh(exterior);
   const FractureSurface input = checked(s);
   Retries retries;
-  for (;;) {
+  for (;; ++retries.attempts) {
     try {
       return PieceBuilder(input, m, options, retries).run();
+    } catch (const PokingOut& poking) {
+      std::string why;
+      if (!retries.next(poking, why) || retries.attempts >= kMaxAttempts) throw RunError(why.empty() ? "too many attempts" : why);
     } catch (const UntriangulatedFace& failed) {
-      std::vector<std::uint32_t>& list = failed.flap ? retries.left_out : retries.along_normal;
-      if (retries.left_out.size() + retries.along_normal.size() >= kMaxRetries ||
-          std::count(list.begin(), list.end(), failed.face))
-        throw RunError(failed.what());
-      list.push_back(failed.face);
+      if (!retries.next(failed) || retries.attempts >= kMaxAttempts) throw RunError(failed.what());
     }
   }
 }

@@ -38,6 +38,11 @@
 //     the face's orientation (not judged for a needle-thin face, whose normal is noise). A face
 //     with two or three boundary edges whose polygon cannot be triangulated (its traces wind
 //     around its chord over bumps of B) is left out like a flap, and the build starts again.
+// 3b. Push. Where S crosses B near its rim (it hugs B, or B is concave under it), a fracture
+//     triangle with a corner on B pokes out of B (sampled on a grid): the build starts again
+//     with its S vertices off B pushed into B along B's normal, twice as far as the deepest poke,
+//     at most a quarter of the vertex's shortest edge over 8 rounds, and only while S stays free
+//     of self-intersections.
 //  4. Patches. The cut B is flood-filled across its edges that are not on a trace. A patch face
 //     using the directed cut edge (x, y) in the winding direction of the S face on that edge
 //     belongs to that face's front piece, in the opposite direction to its back piece; every cut
@@ -103,7 +108,8 @@ struct RoutePoint {
 /// One closed mesh per piece, all indexing one shared vertex array.
 struct PieceSet {
   /// Every vertex of every piece. Index layout: [0, S vertices) are the vertices of S in their
-  /// order (boundary ones moved onto B, the others converted to double as they are); then the
+  /// order (boundary ones moved onto B, those pushed inward by step 3b moved, the others
+  /// converted to double as they are); then the
   /// vertices of B in their order, less those an S vertex was snapped onto (that S vertex takes
   /// their place); then the crossing points and route points, in the order of the traces
   /// (each list in `crossings` and `route_points` ascending); then the face centres, in the
@@ -126,6 +132,8 @@ struct PieceSet {
   std::uint32_t boundary_edges_merged = 0;  ///< short boundary edges of S contracted (their
                                             ///< removed end stays in positions, unused)
   std::uint32_t flaps_removed = 0;          ///< faces of S lying flat on B, left out
+  std::uint32_t rim_retracted = 0;          ///< S boundary vertices moved to where S enters B (step 0)
+  std::uint32_t pushed_inward = 0;          ///< S vertices off B moved inward by step 3b
   std::uint32_t traces_rerouted = 0;        ///< route points added by step 2b (each a
                                             ///< RoutePoint, a CrossingPoint or a B vertex)
 };

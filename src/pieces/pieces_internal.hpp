@@ -211,6 +211,24 @@ struct RepairReport {
 FractureSurface repair_boundary(FractureSurface s, const ExteriorMesh& m, double min_edge, bool flaps,
                                 double tolerance, const std::vector<std::uint32_t>& left_out, RepairReport& report);
 
+/// The S vertices off B (ids below s_vertex_count with on_b unset) of the triangles with a
+/// corner on B whose inside pokes out of B by more than `tolerance` (sampled on a grid), each
+/// with how far it alone would have to move to take the deepest such poke back (the poke over
+/// its weight there). S crosses B there: near its rim where B is concave, or where it hugs B.
+std::map<std::uint32_t, double> poking_vertices(const ExteriorMesh& m, const std::vector<glm::dvec3>& positions,
+                                                const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                                const std::vector<std::uint8_t>& on_b, std::uint32_t s_vertex_count,
+                                                double tolerance);
+
+/// Moves every rim vertex of S (kVertexBoundary) one of whose inner edges (to a vertex off the
+/// rim) leaves it outside B to where that edge enters B (the farthest such point, at most 0.3
+/// of the edge along): S overshoots B there and its true rim lies inside. Returns how many moved.
+std::uint32_t retract_rim(FractureSurface& s, const ExteriorMesh& m, double tolerance);
+
+/// Moves each vertex of `push` that far into B, along the normal of B's triangle nearest to it.
+/// \throw RunError naming a pushed vertex when S then intersects itself at one of its faces.
+void push_inward(FractureSurface& s, const ExteriorMesh& m, const std::map<std::uint32_t, double>& push);
+
 /// "(x, y, z)" with 9 significant digits, for messages.
 std::string format_point(const glm::dvec3& p);
 
