@@ -230,5 +230,38 @@ TEST(PiecesTriangulate, FaceOverCreaseIsFannedFromItsCentroid) {
   EXPECT_FALSE(triangulate_fracture_polygon(polygon, mask, normal).centre_added);
 }
 
+// A face whose trace bends so sharply toward its centroid that the centroid does not see the
+// first side (a -> k): the centre is taken elsewhere in the face's triangle, where it sees all.
+TEST(PiecesTriangulate, CentreSearchedWhenTheCentroidIsBlind) {
+  const glm::dvec3 a(0, 0, 0), k(0.5, 0.3, 0), b(4, 0, 0), m(3, 1, 0), c(2, 2, 0);
+  const std::vector<glm::dvec3> polygon = {a, k, b, m, c};
+  const unsigned on = kOnExterior;
+  const std::vector<unsigned> mask = {5 | on, 1 | on, 3 | on, 2 | on, 6 | on};
+  const FlatTest flat = [](const glm::dvec3&, const glm::dvec3&, const glm::dvec3&) { return true; };
+  const auto result = triangulate_fracture_polygon(polygon, mask, {0, 0, 1}, flat);
+  ASSERT_TRUE(result.centre_added);
+  EXPECT_NE(result.centre_weights, glm::dvec3(1.0 / 3.0));
+  const glm::dvec3 w = result.centre_weights;
+  EXPECT_EQ(result.centre, w.x * a + w.y * b + w.z * c);
+  EXPECT_NEAR(w.x + w.y + w.z, 1.0, 1e-12);
+  ASSERT_EQ(result.triangles.size(), polygon.size());
+  for (const auto& t : result.triangles) {
+    const glm::dvec3 p = polygon[t[0]], q = polygon[t[1]], r = t[2] == polygon.size() ? result.centre : polygon[t[2]];
+    EXPECT_GT(glm::cross(q - p, r - p).z, 0.0);
+  }
+  // The centroid is blind to side a -> k.
+  EXPECT_LT(glm::cross(k - a, (a + b + c) / 3.0 - a).z, 0.0);
+}
+
+// A needle-thin face (its apex almost on its boundary edge) has no trustworthy normal: a fan
+// whose area opposes it is not a fold.
+TEST(PiecesTriangulate, NeedleFaceIsNotJudgedByItsNormal) {
+  const std::vector<glm::dvec3> polygon = {{0, 0, 0}, {0.5, 0.1, 0}, {1, 0, 0}, {0.5, -1e-4, 0}};
+  const std::vector<unsigned> mask = {5 | kOnExterior, 1 | kOnExterior, 3 | kOnExterior, 6};
+  EXPECT_THROW(triangulate_fracture_polygon(polygon, mask, {0, 0, 1}), RunError);
+  const auto fan = triangulate_fracture_polygon(polygon, mask, glm::dvec3(0.0));
+  EXPECT_EQ(fan.triangles.size(), 2u);
+}
+
 }  // namespace
 }  // namespace fracref
