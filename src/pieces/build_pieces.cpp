@@ -51,8 +51,8 @@ struct UntriangulatedFace : RunError {
 };
 
 // Fracture triangles poking out of B: build_pieces starts again with their S vertices off B
-// pushed inward, twice as far as the deepest poke (a vertex at most a quarter of its shortest
-// edge in all).
+// pushed inward, a quarter farther than each alone would have to go to take the deepest poke
+// back (a vertex at most its shortest edge in all, over kMaxPushRounds rounds).
 struct PokingOut : RunError {
   struct Vertex {
     double depth, limit;

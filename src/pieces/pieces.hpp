@@ -7,7 +7,9 @@
 //
 // Method (build_pieces):
 //  0. Repair. Boundary edges of S shorter than PieceOptions::merge_tolerance are contracted
-//     and faces lying flat on B are left out (see PieceOptions), on a copy of S.
+//     and faces lying flat on B are left out (see PieceOptions), on a copy of S; a rim vertex
+//     one of whose inner edges leaves it outside B (S overshooting a concave B) is moved along
+//     that edge to where it enters B.
 //  1. Snap. Every boundary vertex of S (kVertexBoundary) is located on B by a closest-point
 //     query: a B vertex, a point of a B edge or a point inside a B triangle (barycentric weights
 //     below PieceOptions::location_epsilon are zeroed). Its position becomes that point.
@@ -37,12 +39,16 @@
 //     over a crease of B is fanned from its centroid, see FaceCentre). The polygon must keep
 //     the face's orientation (not judged for a needle-thin face, whose normal is noise). A face
 //     with two or three boundary edges whose polygon cannot be triangulated (its traces wind
-//     around its chord over bumps of B) is left out like a flap, and the build starts again.
+//     around its chord over bumps of B) is left out like a flap, and one with one boundary edge
+//     has that edge re-traced in the plane through it along the face's normal (the fan then sees
+//     the trace where it sees the edge); either way the build starts again.
 // 3b. Push. Where S crosses B near its rim (it hugs B, or B is concave under it), a fracture
 //     triangle with a corner on B pokes out of B (sampled on a grid): the build starts again
-//     with its S vertices off B pushed into B along B's normal, twice as far as the deepest poke,
-//     at most a quarter of the vertex's shortest edge over 8 rounds, and only while S stays free
-//     of self-intersections.
+//     with its S vertices off B pushed into B along the normal of B's nearest triangle, a
+//     quarter farther than each alone would have to go to take the deepest poke back, at most
+//     the vertex's shortest edge over 8 rounds, and only while S stays free of
+//     self-intersections. (Step 0 already moved every rim vertex whose inner edge leaves it
+//     outside B to where that edge enters B.)
 //  4. Patches. The cut B is flood-filled across its edges that are not on a trace. A patch face
 //     using the directed cut edge (x, y) in the winding direction of the S face on that edge
 //     belongs to that face's front piece, in the opposite direction to its back piece; every cut
@@ -166,8 +172,10 @@ struct PieceOptions {
 ///        invariant once its derived arrays are rebuilt.
 /// \throw RunError naming the S vertex, S edge, S face or B triangle when S does not fit B:
 ///        a boundary vertex of S farther than snap_tolerance from B, two S vertices on the same
-///        point of B, a trace that cannot reach its end, traces that cross or touch, a patch that
-///        borders two different pieces.
+///        point of B, a trace that cannot reach its end, traces that cross or touch (after step
+///        2b), a face whose polygon cannot be triangulated (after the retries of step 3), faces
+///        still poking out of B after the pushes of step 3b (or a push that would make S
+///        intersect itself), a patch that borders two different pieces.
 PieceSet build_pieces(const FractureSurface& s, const MeshSoup& exterior, const PieceOptions& options = {});
 
 /// What check_pieces finds about one piece.

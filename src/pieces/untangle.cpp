@@ -4,7 +4,6 @@
 #include <cmath>
 #include <map>
 #include <set>
-#include <tuple>
 
 #include "geom/predicates.hpp"
 #include "pieces/pieces_internal.hpp"
@@ -87,6 +86,8 @@ class Untangler {
     for (std::uint32_t i = 0; i < traces.size(); ++i) {
       incident_[traces[i].p].push_back(i);
       incident_[traces[i].q].push_back(i);
+      if (traces[i].trace.from.kind == Location::kVertex) s_on_b_vertex_.insert(traces[i].trace.from.id);
+      if (traces[i].trace.steps.back().to.kind == Location::kVertex) s_on_b_vertex_.insert(traces[i].trace.steps.back().to.id);
     }
   }
 
@@ -111,6 +112,7 @@ class Untangler {
   static constexpr double kShortest = 0.1;   // eps at most, relative to the shortest chord
   static constexpr std::size_t kChainDepth = 3;
   static constexpr int kSamples = 16;        // per segment of the chain, for the side
+  static constexpr double kMinSeparation = 1e-7;  // relative to B's diagonal: below, no side
 
   // A way to resolve a conflict: re-trace X through these route points.
   struct Plan {
@@ -201,7 +203,7 @@ class Untangler {
         }
       }
     }
-    if (side == 0) return out;
+    if (side == 0 || farthest < kMinSeparation * m_.diagonal) return out;  // no side to judge by
     double shortest = chord(x);
     for (const Near& n : near)
       if (n.rel.lateral * side < kOffset * farthest) shortest = std::min(shortest, chord(n.trace));
@@ -213,6 +215,7 @@ class Untangler {
       if (!(glm::length(left) > 0.0)) continue;
       left = glm::normalize(left);
       const Location route = locate_on_exterior(m_, n.loc.point - double(side) * eps * left, epsilon_, nullptr);
+      if (route.kind == Location::kVertex && s_on_b_vertex_.count(route.id)) continue;  // an S vertex is there
       out.waypoints.push_back({n.rel.along, route, n.trace});
     }
     return out;
@@ -278,6 +281,7 @@ class Untangler {
   double tolerance_, epsilon_;
   std::map<std::uint32_t, std::vector<std::uint32_t>> incident_;  // S vertex -> traces ending there
   std::map<std::pair<std::uint32_t, std::uint32_t>, int> tries_;  // (X, Y) -> re-routings
+  std::set<std::uint32_t> s_on_b_vertex_;                          // B vertices an S vertex lies on
 };
 
 }  // namespace
