@@ -245,6 +245,7 @@ TEST(ScenegenDemo, NamesAndTargets) {
   ASSERT_EQ(targets.size(), 5u);
   EXPECT_EQ(targets[0].coarse_triangles, 256u);
   EXPECT_EQ(targets[2].refined_triangles, 208000u);
+  EXPECT_EQ(targets[2].seconds, 13.6);
 }
 
 TEST(ScenegenDemo, Branch) {

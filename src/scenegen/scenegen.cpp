@@ -131,8 +131,8 @@ Json write_rigid_animation(const SceneSetup& setup, const std::vector<std::vecto
 std::vector<std::string> demo_scene_names() { return {"bunny", "branch", "wall", "clay", "jello"}; }
 
 std::vector<DemoTarget> demo_scene_targets() {
-  return {{"bunny", 256, 174000}, {"branch", 60, 123000}, {"wall", 204, 208000}, {"clay", 510, 40000},
-          {"jello", 488, 32000}};
+  return {{"bunny", 256, 174000, 11.7}, {"branch", 60, 123000, 5.0}, {"wall", 204, 208000, 13.6},
+          {"clay", 510, 40000, 3.0},   {"jello", 488, 32000, 3.0}};
 }
 
 std::filesystem::path generate_demo_scene(const std::string& name, const std::filesystem::path& folder,

@@ -42,12 +42,13 @@ struct DemoTarget {
   std::string name;
   std::size_t coarse_triangles = 0;   ///< triangles of the coarse fracture surface
   std::size_t refined_triangles = 0;  ///< the scene's refine.max_triangles
+  double seconds = 0.0;               ///< the paper's refinement time (one i7-2600 core, 2014)
 };
 
 /// {"bunny", "branch", "wall", "clay", "jello"}, the order of the paper.
 std::vector<std::string> demo_scene_names();
 
-/// The paper's coarse and refined triangle counts, one per demo_scene_names() entry.
+/// The paper's coarse and refined triangle counts and time, one per demo_scene_names() entry.
 std::vector<DemoTarget> demo_scene_targets();
 
 /// Writes the demo scene `name` into `folder` (created if missing; files of the same names are
