@@ -87,6 +87,10 @@ struct BenchSurface {
 /// \pre vertices >= 4.
 BenchSurface make_bench_surface(std::size_t vertices);
 
+/// The kernels' field: random values in [-1, 1] on a 64³ grid over [-1.1, 1.1]³, the same every
+/// call (seeded).
+FieldGrid4 make_bench_field();
+
 /// One kernel at one size on one backend: milliseconds per call, one value per repeat.
 struct KernelBenchResult {
   std::string kernel;   ///< "pyramid", "k1k2", "k3", "call_k1k2", "call_k3"

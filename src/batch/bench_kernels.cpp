@@ -56,19 +56,6 @@ void build_csr_and_samples(BenchSurface& s) {
   }
 }
 
-/// A random field on a 64³ grid over [-1.1, 1.1]³ (seeded: the same every run).
-FieldGrid4 bench_field() {
-  FieldGrid4 g;
-  g.dims = {64, 64, 64};
-  g.origin = glm::dvec3(-1.1);
-  g.cell = 2.2 / 63.0;
-  g.values.resize(std::size_t(64) * 64 * 64);
-  std::mt19937 rng(1);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  for (glm::vec4& v : g.values) v = {u(rng), u(rng), u(rng), u(rng)};
-  return g;
-}
-
 Grid3 bench_grid() {
   Grid3 g;
   g.dims = {64, 64, 64};
@@ -148,6 +135,18 @@ void bench_size(const std::vector<std::string>& kernels, std::size_t size, const
 
 }  // namespace
 
+FieldGrid4 make_bench_field() {
+  FieldGrid4 g;
+  g.dims = {64, 64, 64};
+  g.origin = glm::dvec3(-1.1);
+  g.cell = 2.2 / 63.0;
+  g.values.resize(std::size_t(64) * 64 * 64);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (glm::vec4& v : g.values) v = {u(rng), u(rng), u(rng), u(rng)};
+  return g;
+}
+
 BenchSurface make_bench_surface(std::size_t vertices) {
   const unsigned side = std::max(2u, unsigned(std::lround(std::sqrt(double(vertices)))));
   std::vector<glm::vec3> grid;
@@ -177,7 +176,7 @@ BenchSurface make_bench_surface(std::size_t vertices) {
 }
 
 std::vector<KernelBenchResult> bench_kernels(const std::vector<BenchBackend>& backends, const KernelBenchOptions& o) {
-  const FieldGrid4 field = bench_field();
+  const FieldGrid4 field = make_bench_field();
   const Grid3 grid = bench_grid();
   for (const BenchBackend& b : backends)
     if (b.backend) b.backend->set_field(field);
