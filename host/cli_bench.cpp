@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <iostream>
 #include <memory>
@@ -25,7 +26,7 @@ struct BenchCliOptions {
   std::vector<std::string> backends = {"cpu", "vulkan"};
   int repeat = 3;
   std::string json;
-  std::string stop_after = "refine";
+  std::string stop_after = "animate";
   bool kernels_only = false;
   bool no_kernels = false;
   std::vector<std::size_t> kernel_sizes = {10'000, 100'000, 1'000'000};
@@ -45,14 +46,17 @@ struct ScratchDir {
   }
 };
 
-/// The backends asked for; one that cannot start is kept, unavailable, with the reason.
+/// The backends asked for, each with the seconds its creation took; one that cannot start is
+/// kept, unavailable, with the reason.
 std::vector<std::unique_ptr<ComputeBackend>> make_backends(const std::vector<std::string>& keys,
                                                            std::vector<BenchBackend>& out) {
   std::vector<std::unique_ptr<ComputeBackend>> owned;
   for (const std::string& key : keys) {
     BenchBackend b{key, nullptr, ""};
     try {
+      const auto t0 = std::chrono::steady_clock::now();
       owned.push_back(key == "cpu" ? make_cpu_backend(2) : make_vulkan_backend());
+      b.startup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       b.backend = owned.back().get();
     } catch (const std::exception& e) {
       b.unavailable = e.what();
@@ -76,7 +80,11 @@ std::vector<BenchScene> generate_scenes(const std::vector<std::string>& names, c
     }
     BenchScene scene{name, generate_demo_scene(name, folder / name, demo)};
     for (const DemoTarget& t : demo_scene_targets())
-      if (t.name == name) scene.paper_coarse_triangles = t.coarse_triangles, scene.paper_refined_triangles = t.refined_triangles;
+      if (t.name == name) {
+        scene.paper_coarse_triangles = t.coarse_triangles;
+        scene.paper_refined_triangles = t.refined_triangles;
+        scene.paper_seconds = t.seconds;
+      }
     scenes.push_back(scene);
   }
   return scenes;
@@ -147,7 +155,7 @@ void add_bench_command(CLI::App& app, Action& action) {
   sub->add_option("--backends", o->backends, "backends, comma separated: cpu, vulkan (default both)")->delimiter(',');
   sub->add_option("--repeat", o->repeat, "runs of each measurement (default 3)")->check(CLI::PositiveNumber);
   sub->add_option("--json", o->json, "also write the results as JSON to this file");
-  sub->add_option("--stop-after", o->stop_after, "last stage of the scene runs (default refine)")
+  sub->add_option("--stop-after", o->stop_after, "last stage of the scene runs (default animate: the whole pipeline)")
       ->check(CLI::IsMember({"preprocess", "refine", "pieces", "animate"}));
   auto* only = sub->add_flag("--kernels-only", o->kernels_only, "skip the scenes");
   sub->add_flag("--no-kernels", o->no_kernels, "skip the kernels")->excludes(only);

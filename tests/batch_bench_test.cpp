@@ -164,11 +164,12 @@ TEST(BatchBench, SceneSeriesFromTheJobsOwnReports) {
   auto cpu = make_cpu_backend(1);
   SceneBenchOptions o;
   o.repeat = 2;
+  o.stop_after = Stage::refine;
   o.scratch = t.path / "scratch";
   std::vector<std::string> order;
   o.progress = [&](const std::string& what, double) { order.push_back(what); };
   const auto backends = cpu_and_missing(*cpu);
-  const auto r = bench_scenes({{"cube", scene}, {"wall", bad, 204, 208000}}, backends, o);
+  const auto r = bench_scenes({{"cube", scene}, {"wall", bad, 204, 208000, 13.6}}, backends, o);
   ASSERT_EQ(r.size(), 4u);
   EXPECT_EQ(r[0].scene, "cube");
   EXPECT_EQ(r[0].backend, "cpu");
@@ -180,6 +181,8 @@ TEST(BatchBench, SceneSeriesFromTheJobsOwnReports) {
   EXPECT_EQ(r[0].coarse_triangles, 8u);
   EXPECT_TRUE(r[0].refined_triangles.has_value());
   EXPECT_TRUE(r[0].iterations.has_value());
+  EXPECT_EQ(r[0].final_energy.size(), 2u);
+  EXPECT_TRUE(r[0].animate.empty());
   EXPECT_EQ(r[1].error, "unavailable: no driver in this test");
   EXPECT_NE(r[2].error.find("bad.json"), std::string::npos) << r[2].error;  // the failure is kept, the rest ran
   EXPECT_TRUE(r[2].total.empty());
@@ -200,6 +203,6 @@ TEST(BatchBench, SceneSeriesFromTheJobsOwnReports) {
   EXPECT_NE(table.find("8 -> "), std::string::npos) << table;
   EXPECT_NE(table.find("13.60"), std::string::npos) << table;
   EXPECT_NE(table.find("204 -> 208000"), std::string::npos) << table;
-  EXPECT_NE(table.find("not robust yet"), std::string::npos) << table;
+  EXPECT_NE(table.find("Stopped after refine."), std::string::npos) << table;
   EXPECT_NE(table.find("! wall on cpu: "), std::string::npos) << table;
 }

@@ -68,6 +68,10 @@ TEST(CliBench, ScenesWithoutVulkanSayWhyAndTheCpuStillRuns) {
   EXPECT_EQ(vk["error"].get<std::string>().rfind("unavailable: ", 0), 0u) << vk["error"];
   EXPECT_EQ(vk["runs"], 0);
   EXPECT_TRUE(j["backends"]["vulkan"].contains("unavailable"));
+  ASSERT_EQ(j["comparisons"].size(), 1u);  // one per scene, its figures missing without Vulkan
+  EXPECT_EQ(j["comparisons"][0]["scene"], "wall");
+  EXPECT_TRUE(j["comparisons"][0]["triangles_cpu"].is_null());  // stopped before refine
+  EXPECT_TRUE(j["comparisons"][0]["setup_refine_ratio"].is_null());
   EXPECT_NE(r.out.find("! wall on vulkan: unavailable"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("Stopped after preprocess"), std::string::npos) << r.out;
 }
@@ -79,6 +83,7 @@ TEST(CliBench, TheBunnyIsSkippedWithANoteWhenItsMeshIsMissing) {
                "FRACREF_DATA_DIR=/nonexistent");
   ASSERT_EQ(r.code, 0) << r.err;
   const json j = json::parse(slurp(file));
+  EXPECT_EQ(j["stop_after"], "animate");  // the whole pipeline by default
   EXPECT_EQ(j["results"].size(), 0u);
   bool noted = false;
   for (const json& n : j["notes"]) noted |= n.get<std::string>().find("bunny skipped") != std::string::npos;

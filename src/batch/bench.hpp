@@ -23,6 +23,10 @@ struct BenchBackend {
   std::string key;                  ///< "cpu", "vulkan"
   ComputeBackend* backend = nullptr;
   std::string unavailable;
+  /// Seconds its creation took (instance, device, pipelines; measured by the caller, 0 when not).
+  /// A job creates its backend once, outside report.json's seconds, and the bench shares one
+  /// backend between its runs: the Vulkan/CPU ratio adds this to every run.
+  double startup_seconds = 0.0;
 };
 
 /// Reports progress: what runs now and the fraction of all runs done.
@@ -34,27 +38,38 @@ using BenchProgress = std::function<void(const std::string& what, double fractio
 struct BenchScene {
   std::string name;                 ///< "wall"
   std::filesystem::path scene_file;
-  std::uint64_t paper_coarse_triangles = 0;   ///< the paper's counts (demo_scene_targets()); 0 = unknown
+  std::uint64_t paper_coarse_triangles = 0;   ///< the paper's figures (demo_scene_targets()); 0 = unknown
   std::uint64_t paper_refined_triangles = 0;
+  double paper_seconds = 0.0;
 };
 
-/// The measurements of one (scene, backend) pair: one entry per run in every series.
+/// The measurements of one (scene, backend) pair: one entry per run in every series (a series
+/// whose stage did not run, e.g. animate on a scene without animation, stays empty).
 struct SceneBenchResult {
   std::string scene, backend;       ///< backend key
   std::string backend_name;         ///< ComputeBackend::name()
   std::string error;                ///< why the runs stopped (unavailable backend or a failure)
-  std::vector<double> setup, refine, pieces, total;  ///< seconds from each run's report
-  std::optional<std::uint64_t> coarse_triangles, refined_triangles;
+  std::vector<double> setup, refine, pieces, animate, total;  ///< seconds from each run's report
+  std::vector<double> final_energy;  ///< each run's energy after its last refine iteration
+  std::optional<std::uint64_t> coarse_triangles, refined_triangles;  ///< the last run's
   std::optional<std::uint64_t> iterations;
   std::uint64_t paper_coarse_triangles = 0, paper_refined_triangles = 0;  ///< from BenchScene
+  double paper_seconds = 0.0;                                             ///< from BenchScene; 0 = unknown
+  double startup_seconds = 0.0;     ///< from BenchBackend
 };
 
 struct SceneBenchOptions {
   int repeat = 3;
-  Stage stop_after = Stage::refine;
+  Stage stop_after = Stage::animate;  ///< the whole pipeline
   std::filesystem::path scratch;    ///< an existing folder for the runs' outputs (each removed after)
   BenchProgress progress;
 };
+
+/// Appends one run's figures from its report.json to `r`: seconds.setup, .refine, .pieces,
+/// .animate and .total each to its series when present; the final energy (the last entry of
+/// `iterations`, or `initial_energy` when no iteration ran) when the job refined; and the counts
+/// coarse_triangles, refined_triangles and the number of iterations (replacing the last run's).
+void record_run(const nlohmann::ordered_json& report, SceneBenchResult& r);
 
 /// Runs every (scene, backend) pair options.repeat times, interleaved: for each repeat, for each
 /// scene, for each backend. Each run goes through run_job into its own folder under
@@ -64,8 +79,26 @@ std::vector<SceneBenchResult> bench_scenes(const std::vector<BenchScene>& scenes
                                            const std::vector<BenchBackend>& backends,
                                            const SceneBenchOptions& options);
 
-/// The paper's time for a demo scene (seconds, one i7-2600 core), or nullopt.
-std::optional<double> paper_seconds(const std::string& scene);
+/// One scene on a backend against the same scene on "cpu", from the runs' medians.
+struct SceneComparison {
+  std::string scene, backend;       ///< backend: the key compared with "cpu" ("vulkan")
+  std::optional<std::uint64_t> triangles_cpu, triangles_other;  ///< refined triangles
+  std::optional<std::int64_t> triangle_difference;              ///< other - cpu
+  std::optional<double> triangle_relative_difference;           ///< difference / cpu
+  std::optional<double> energy_cpu, energy_other;               ///< median final energies
+  std::optional<double> energy_relative_difference;             ///< (other - cpu) / |cpu|
+  /// Per pair of runs i (the i-th run of each; runs are interleaved, so a pair ran side by
+  /// side): (setup + refine + start-up) on the backend / the same on cpu. Empty without refine.
+  std::vector<double> setup_refine_ratios;
+  std::optional<double> setup_refine_ratio;  ///< the median of setup_refine_ratios
+  std::optional<double> total_ratio;         ///< median total / cpu median total
+};
+
+/// One comparison per result whose backend is not "cpu" and whose scene has a "cpu" result, in
+/// the results' order. A figure is nullopt when either side lacks it (an unavailable backend,
+/// a failure, a stage that did not run); a relative difference also when the cpu figure is 0
+/// and the other is not (0 when both are).
+std::vector<SceneComparison> compare_backends(const std::vector<SceneBenchResult>& results);
 
 // ---------------------------------------------------------------------------------------------
 // Kernels
@@ -124,16 +157,27 @@ std::vector<KernelBenchResult> bench_kernels(const std::vector<BenchBackend>& ba
 /// The median (mean of the middle two for an even count). \pre !values.empty().
 double median(std::vector<double> values);
 
-/// The JSON written by --json: {"version", "repeat", "stop_after", "backends": {key: {"name"} or
-/// {"unavailable"}}, "results": [per (scene, backend): medians, samples, counts, paper ratio,
-/// vulkan_to_cpu], "kernels": [per (kernel, size, backend): median_ms, samples_ms, ...],
-/// "notes": [...]}.
+/// The JSON written by --json: {"version", "repeat", "stop_after", "backends": {key: {"name",
+/// "startup_seconds"} or {"unavailable"}}, "results": [per (scene, backend): "scene", "backend",
+/// "backend_name", "runs", ["error"], "coarse_triangles", "refined_triangles", "iterations",
+/// "final_energy" (median), "samples_final_energy", "median_seconds" and "samples_seconds" (by
+/// stage: setup, refine, pieces, animate, total; stages that ran), ["to_cpu"] (ratios of
+/// medians by stage), "paper_seconds", "paper_triangles", "refine_to_paper"], "comparisons": [per
+/// compare_backends() entry: "scene", "backend", "triangles_cpu", "triangles_<backend>",
+/// "triangle_difference", "triangle_relative_difference", "energy_cpu", "energy_<backend>",
+/// "energy_relative_difference", "setup_refine_ratio", "setup_refine_ratios", "total_ratio"],
+/// "kernels": [per (kernel, size, backend): median_ms, samples_ms, ...], "notes": [...]}.
+/// Missing figures are null.
 nlohmann::ordered_json bench_json(const std::vector<SceneBenchResult>& scenes,
                                   const std::vector<KernelBenchResult>& kernels,
                                   const std::vector<BenchBackend>& backends, int repeat, Stage stop_after,
                                   const std::vector<std::string>& notes);
 
-/// The scene table (empty string when `scenes` is empty), with its footer.
+/// The scene table (empty string when `scenes` is empty): per (scene, backend) the triangles
+/// (coarse -> refined), final energy, median seconds of every stage, the paper's triangles and
+/// time and refine/paper; then, when there are comparisons, per scene and non-cpu backend the
+/// setup+refine and total ratios to cpu and the refined-triangle and energy differences; then
+/// the failures and a footer saying how to read it.
 std::string scene_table(const std::vector<SceneBenchResult>& scenes, int repeat, Stage stop_after);
 /// The kernel table (empty string when `kernels` is empty).
 std::string kernel_table(const std::vector<KernelBenchResult>& kernels, const std::vector<BenchBackend>& backends);

@@ -1,4 +1,5 @@
 // The bench's JSON and its two tables.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -22,6 +23,21 @@ std::string fmt(double v) {
 
 std::string ratio_text(double r) { return fmt(r) + "x"; }
 
+/// 6 significant digits: energies are compared between backends, seconds are not.
+std::string energy_text(double e) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", e);
+  return buf;
+}
+
+/// A signed percentage with 2 decimals below 10 %, e.g. "+0.57%", "-12.3%", "+0.00%".
+std::string percent_text(double fraction) {
+  char buf[32];
+  const double p = 100.0 * fraction;
+  std::snprintf(buf, sizeof buf, std::fabs(p) < 10.0 ? "%+.2f%%" : "%+.1f%%", p);
+  return buf;
+}
+
 /// Columns padded to their widest cell; the first `left` columns left-aligned, the rest right.
 std::string format_table(const std::vector<Row>& rows, std::size_t left) {
   std::vector<std::size_t> width;
@@ -44,11 +60,27 @@ std::string format_table(const std::vector<Row>& rows, std::size_t left) {
   return out;
 }
 
+const char* const kStages[] = {"setup", "refine", "pieces", "animate", "total"};
+
 const std::vector<double>* series(const SceneBenchResult& r, const std::string& key) {
   if (key == "setup") return &r.setup;
   if (key == "refine") return &r.refine;
   if (key == "pieces") return &r.pieces;
+  if (key == "animate") return &r.animate;
   return &r.total;
+}
+
+template <class T>
+ordered_json or_null(const std::optional<T>& v) {
+  return v ? ordered_json(*v) : ordered_json();
+}
+
+/// "+12 (+0.57%)", "+0 (+0.00%)"; without the percentage when `rel` is missing; "-" without `d`.
+std::string difference_text(const std::optional<std::int64_t>& d, const std::optional<double>& rel) {
+  if (!d) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%+lld", static_cast<long long>(*d));
+  return rel ? std::string(buf) + " (" + percent_text(*rel) + ")" : std::string(buf);
 }
 
 std::optional<double> median_of(const std::vector<double>& v) {
@@ -70,13 +102,14 @@ const KernelBenchResult* cpu_kernel(const std::vector<KernelBenchResult>& all, c
 ordered_json scene_json(const std::vector<SceneBenchResult>& all, const SceneBenchResult& r) {
   ordered_json j = {{"scene", r.scene}, {"backend", r.backend}, {"backend_name", r.backend_name}, {"runs", r.total.size()}};
   if (!r.error.empty()) j["error"] = r.error;
-  auto put = [&](const char* key, const std::optional<std::uint64_t>& v) { j[key] = v ? ordered_json(*v) : ordered_json(); };
-  put("coarse_triangles", r.coarse_triangles);
-  put("refined_triangles", r.refined_triangles);
-  put("iterations", r.iterations);
+  j["coarse_triangles"] = or_null(r.coarse_triangles);
+  j["refined_triangles"] = or_null(r.refined_triangles);
+  j["iterations"] = or_null(r.iterations);
+  j["final_energy"] = or_null(median_of(r.final_energy));
+  j["samples_final_energy"] = r.final_energy;
   ordered_json med = ordered_json::object(), samples = ordered_json::object(), to_cpu = ordered_json::object();
   const SceneBenchResult* cpu = r.backend == "cpu" ? nullptr : cpu_result(all, r);
-  for (const char* key : {"setup", "refine", "pieces", "total"}) {
+  for (const char* key : kStages) {
     const std::vector<double>& s = *series(r, key);
     if (s.empty()) continue;
     med[key] = median(s);
@@ -86,13 +119,28 @@ ordered_json scene_json(const std::vector<SceneBenchResult>& all, const SceneBen
   j["median_seconds"] = med;
   j["samples_seconds"] = samples;
   if (cpu) j["to_cpu"] = to_cpu;
-  const std::optional<double> paper = paper_seconds(r.scene);
-  j["paper_seconds"] = paper ? ordered_json(*paper) : ordered_json();
+  const bool paper = r.paper_seconds > 0.0;
+  j["paper_seconds"] = paper ? ordered_json(r.paper_seconds) : ordered_json();
   j["paper_triangles"] = r.paper_refined_triangles
                              ? ordered_json{{"coarse", r.paper_coarse_triangles}, {"refined", r.paper_refined_triangles}}
                              : ordered_json();
-  j["refine_to_paper"] = paper && !r.refine.empty() ? ordered_json(median(r.refine) / *paper) : ordered_json();
+  j["refine_to_paper"] = paper && !r.refine.empty() ? ordered_json(median(r.refine) / r.paper_seconds) : ordered_json();
   return j;
+}
+
+ordered_json comparison_json(const SceneComparison& c) {
+  return {{"scene", c.scene},
+          {"backend", c.backend},
+          {"triangles_cpu", or_null(c.triangles_cpu)},
+          {"triangles_" + c.backend, or_null(c.triangles_other)},
+          {"triangle_difference", or_null(c.triangle_difference)},
+          {"triangle_relative_difference", or_null(c.triangle_relative_difference)},
+          {"energy_cpu", or_null(c.energy_cpu)},
+          {"energy_" + c.backend, or_null(c.energy_other)},
+          {"energy_relative_difference", or_null(c.energy_relative_difference)},
+          {"setup_refine_ratio", or_null(c.setup_refine_ratio)},
+          {"setup_refine_ratios", c.setup_refine_ratios},
+          {"total_ratio", or_null(c.total_ratio)}};
 }
 
 ordered_json kernel_json(const std::vector<KernelBenchResult>& all, const KernelBenchResult& k) {
@@ -114,6 +162,62 @@ std::string size_label(const KernelBenchResult& k) {
   return std::to_string(k.size);
 }
 
+Row scene_row(const SceneBenchResult& r) {
+  Row row = {r.scene, r.backend};
+  std::string triangles = r.coarse_triangles ? std::to_string(*r.coarse_triangles) : "-";
+  if (r.refined_triangles) triangles += " -> " + std::to_string(*r.refined_triangles);
+  row.push_back(triangles);
+  const std::optional<double> energy = median_of(r.final_energy);
+  row.push_back(energy ? energy_text(*energy) : "-");
+  for (const char* key : kStages) {
+    const std::optional<double> m = median_of(*series(r, key));
+    row.push_back(m ? fmt(*m) : "-");
+  }
+  row.push_back(r.paper_refined_triangles
+                    ? std::to_string(r.paper_coarse_triangles) + " -> " + std::to_string(r.paper_refined_triangles)
+                    : "-");
+  const bool paper = r.paper_seconds > 0.0;
+  row.push_back(paper ? fmt(r.paper_seconds) : "-");
+  row.push_back(paper && !r.refine.empty() ? ratio_text(median(r.refine) / r.paper_seconds) : "-");
+  return row;
+}
+
+std::string comparison_table(const std::vector<SceneComparison>& comparisons) {
+  std::vector<Row> rows = {{"scene", "vs cpu", "setup+refine", "total", "refined triangles", "final energy"}};
+  for (const SceneComparison& c : comparisons)
+    rows.push_back({c.scene, c.backend, c.setup_refine_ratio ? ratio_text(*c.setup_refine_ratio) : "-",
+                    c.total_ratio ? ratio_text(*c.total_ratio) : "-",
+                    difference_text(c.triangle_difference, c.triangle_relative_difference),
+                    c.energy_relative_difference ? percent_text(*c.energy_relative_difference) : "-"});
+  return format_table(rows, 2);
+}
+
+/// "vulkan 0.41 s, cpu 0.0001 s": each available backend's start-up, in the results' order.
+std::string startup_text(const std::vector<SceneBenchResult>& scenes) {
+  std::vector<std::string> seen;
+  std::string out;
+  for (const SceneBenchResult& r : scenes) {
+    if (r.error.rfind("unavailable: ", 0) == 0 || std::find(seen.begin(), seen.end(), r.backend) != seen.end()) continue;
+    seen.push_back(r.backend);
+    out += (out.empty() ? "" : ", ") + r.backend + " " + fmt(r.startup_seconds) + " s";
+  }
+  return out;
+}
+
+std::string scene_footer(const std::vector<SceneBenchResult>& scenes, int repeat, Stage stop_after, bool compared) {
+  std::string out = "Medians of " + std::to_string(repeat) + (repeat == 1 ? " run" : " runs") +
+                    ", interleaved (repeat, scene, backend); seconds are the job's own (report.json), - where a "
+                    "stage did not run; final energy: after the last refine iteration.\n";
+  if (compared)
+    out += "vs cpu: setup+refine = median over paired runs of (setup + refine + backend start-up) / the same on "
+           "cpu (start-up, measured once: " + startup_text(scenes) + "); total = median total / cpu median total; "
+           "refined triangles = backend - cpu (relative to cpu); final energy = (backend - cpu) / |cpu|.\n";
+  if (stop_after != Stage::animate) out += std::string("Stopped after ") + to_string(stop_after) + ".\n";
+  out += "Paper: one core of an i7-2600 (2014), refinement only (its pyramid initialisation took 10-30 s more); "
+         "refine/paper compares our refine median with it, whatever triangle counts each reached.\n";
+  return out;
+}
+
 }  // namespace
 
 ordered_json bench_json(const std::vector<SceneBenchResult>& scenes, const std::vector<KernelBenchResult>& kernels,
@@ -121,51 +225,31 @@ ordered_json bench_json(const std::vector<SceneBenchResult>& scenes, const std::
                         const std::vector<std::string>& notes) {
   ordered_json b = ordered_json::object();
   for (const BenchBackend& be : backends)
-    b[be.key] = be.backend ? ordered_json{{"name", be.backend->name()}} : ordered_json{{"unavailable", be.unavailable}};
-  ordered_json results = ordered_json::array(), ks = ordered_json::array();
+    b[be.key] = be.backend ? ordered_json{{"name", be.backend->name()}, {"startup_seconds", be.startup_seconds}}
+                           : ordered_json{{"unavailable", be.unavailable}};
+  ordered_json results = ordered_json::array(), comparisons = ordered_json::array(), ks = ordered_json::array();
   for (const SceneBenchResult& r : scenes) results.push_back(scene_json(scenes, r));
+  for (const SceneComparison& c : compare_backends(scenes)) comparisons.push_back(comparison_json(c));
   for (const KernelBenchResult& k : kernels) ks.push_back(kernel_json(kernels, k));
-  return {{"version", kVersion}, {"repeat", repeat},     {"stop_after", to_string(stop_after)},
-          {"backends", b},       {"results", results}, {"kernels", ks},
-          {"notes", notes}};
+  return {{"version", kVersion},   {"repeat", repeat},   {"stop_after", to_string(stop_after)},
+          {"backends", b},         {"results", results}, {"comparisons", comparisons},
+          {"kernels", ks},         {"notes", notes}};
 }
 
 std::string scene_table(const std::vector<SceneBenchResult>& scenes, int repeat, Stage stop_after) {
   if (scenes.empty()) return "";
-  std::vector<Row> rows = {{"scene", "backend", "triangles", "setup s", "refine s", "pieces s", "total s", "vs cpu",
-                            "paper triangles", "paper s", "refine/paper"}};
+  std::vector<Row> rows = {{"scene", "backend", "triangles", "final energy", "setup s", "refine s", "pieces s",
+                            "animate s", "total s", "paper triangles", "paper s", "refine/paper"}};
   std::vector<std::string> errors;
   for (const SceneBenchResult& r : scenes) {
-    Row row = {r.scene, r.backend};
-    std::string triangles = r.coarse_triangles ? std::to_string(*r.coarse_triangles) : "-";
-    if (r.refined_triangles) triangles += " -> " + std::to_string(*r.refined_triangles);
-    row.push_back(triangles);
-    for (const char* key : {"setup", "refine", "pieces", "total"}) {
-      const std::optional<double> m = median_of(*series(r, key));
-      row.push_back(m ? fmt(*m) : "-");
-    }
-    const SceneBenchResult* cpu = r.backend == "cpu" ? nullptr : cpu_result(scenes, r);
-    row.push_back(cpu && !cpu->total.empty() && !r.total.empty() ? ratio_text(median(r.total) / median(cpu->total)) : "-");
-    row.push_back(r.paper_refined_triangles ? std::to_string(r.paper_coarse_triangles) + " -> " +
-                                                  std::to_string(r.paper_refined_triangles)
-                                            : "-");
-    const std::optional<double> paper = paper_seconds(r.scene);
-    row.push_back(paper ? fmt(*paper) : "-");
-    row.push_back(paper && !r.refine.empty() ? ratio_text(median(r.refine) / *paper) : "-");
-    rows.push_back(row);
+    rows.push_back(scene_row(r));
     if (!r.error.empty()) errors.push_back(r.scene + " on " + r.backend + ": " + r.error);
   }
   std::string out = format_table(rows, 3);
+  const std::vector<SceneComparison> comparisons = compare_backends(scenes);
+  if (!comparisons.empty()) out += "\n", out += comparison_table(comparisons);
   for (const std::string& e : errors) out += "  ! " + e + "\n";
-  out += "Medians of " + std::to_string(repeat) + (repeat == 1 ? " run" : " runs") + ", interleaved (repeat, scene, backend); seconds are the job's own "
-         "(report.json). vs cpu: total / the cpu total.\n";
-  if (stop_after == Stage::refine)
-    out += "Stopped after refine: the pieces and animate stages are not robust yet (--stop-after pieces includes pieces).\n";
-  else
-    out += std::string("Stopped after ") + to_string(stop_after) + ".\n";
-  out += "Paper: one core of an i7-2600 (2014), refinement only (its pyramid initialisation took 10-30 s more); "
-         "refine/paper compares our refine median with it, whatever triangle counts each reached.\n";
-  return out;
+  return out + scene_footer(scenes, repeat, stop_after, !comparisons.empty());
 }
 
 std::string kernel_table(const std::vector<KernelBenchResult>& kernels, const std::vector<BenchBackend>& backends) {

@@ -1,6 +1,5 @@
 // The scene half of `fracref bench`: whole jobs, interleaved over repeats, scenes and backends.
 #include <algorithm>
-#include <map>
 
 #include "batch/bench.hpp"
 #include "scene/scene.hpp"
@@ -20,6 +19,17 @@ std::optional<std::uint64_t> count_of(const ordered_json& report, const char* ke
   return std::nullopt;
 }
 
+/// The energy after the last refine iteration (initial_energy when none ran); nullopt without refine.
+std::optional<double> final_energy(const ordered_json& report) {
+  if (report.contains("iterations") && report["iterations"].is_array() && !report["iterations"].empty()) {
+    const ordered_json& last = report["iterations"].back();
+    if (last.contains("energy") && last["energy"].is_number()) return last["energy"].get<double>();
+  }
+  if (report.contains("initial_energy") && report["initial_energy"].is_number())
+    return report["initial_energy"].get<double>();
+  return std::nullopt;
+}
+
 /// One run of `scene` on `backend` into a fresh folder under `scratch`, recorded in `r`.
 void run_once(const Scene& scene, const BenchBackend& backend, const SceneBenchOptions& o, const std::string& tag,
               SceneBenchResult& r) {
@@ -35,24 +45,38 @@ void run_once(const Scene& scene, const BenchBackend& backend, const SceneBenchO
   } remove{out};
   JobOptions jo;
   jo.stop_after = o.stop_after;
-  const ordered_json report = run_job(scene, out, *backend.backend, jo);
-  const ordered_json& s = report["seconds"];
-  add_seconds(s, "setup", r.setup);
-  add_seconds(s, "refine", r.refine);
-  add_seconds(s, "pieces", r.pieces);
-  add_seconds(s, "total", r.total);
-  r.coarse_triangles = count_of(report, "coarse_triangles");
-  r.refined_triangles = count_of(report, "refined_triangles");
-  if (report.contains("iterations") && report["iterations"].is_array()) r.iterations = report["iterations"].size();
+  record_run(run_job(scene, out, *backend.backend, jo), r);
+}
+
+SceneBenchResult empty_result(const BenchScene& scene, const BenchBackend& b) {
+  SceneBenchResult r;
+  r.scene = scene.name;
+  r.backend = b.key;
+  r.paper_coarse_triangles = scene.paper_coarse_triangles;
+  r.paper_refined_triangles = scene.paper_refined_triangles;
+  r.paper_seconds = scene.paper_seconds;
+  r.startup_seconds = b.startup_seconds;
+  r.backend_name = b.backend ? b.backend->name() : b.key;
+  if (!b.backend) r.error = "unavailable: " + b.unavailable;
+  return r;
 }
 
 }  // namespace
 
-std::optional<double> paper_seconds(const std::string& scene) {
-  static const std::map<std::string, double> kPaper = {
-      {"bunny", 11.7}, {"branch", 5.0}, {"wall", 13.6}, {"clay", 3.0}, {"jello", 3.0}};
-  auto it = kPaper.find(scene);
-  return it == kPaper.end() ? std::nullopt : std::optional<double>(it->second);
+void record_run(const ordered_json& report, SceneBenchResult& r) {
+  static const ordered_json kNone = ordered_json::object();
+  const ordered_json& s = report.contains("seconds") && report["seconds"].is_object() ? report["seconds"] : kNone;
+  add_seconds(s, "setup", r.setup);
+  add_seconds(s, "refine", r.refine);
+  add_seconds(s, "pieces", r.pieces);
+  add_seconds(s, "animate", r.animate);
+  add_seconds(s, "total", r.total);
+  if (report.contains("refined_triangles"))
+    if (const std::optional<double> e = final_energy(report)) r.final_energy.push_back(*e);
+  r.coarse_triangles = count_of(report, "coarse_triangles");
+  r.refined_triangles = count_of(report, "refined_triangles");
+  r.iterations.reset();
+  if (report.contains("iterations") && report["iterations"].is_array()) r.iterations = report["iterations"].size();
 }
 
 std::vector<SceneBenchResult> bench_scenes(const std::vector<BenchScene>& scenes, const std::vector<BenchBackend>& backends,
@@ -60,16 +84,7 @@ std::vector<SceneBenchResult> bench_scenes(const std::vector<BenchScene>& scenes
   std::vector<SceneBenchResult> results;
   std::vector<std::optional<Scene>> loaded(scenes.size());
   for (std::size_t s = 0; s < scenes.size(); ++s)
-    for (const BenchBackend& b : backends) {
-      SceneBenchResult r;
-      r.scene = scenes[s].name;
-      r.backend = b.key;
-      r.paper_coarse_triangles = scenes[s].paper_coarse_triangles;
-      r.paper_refined_triangles = scenes[s].paper_refined_triangles;
-      r.backend_name = b.backend ? b.backend->name() : b.key;
-      if (!b.backend) r.error = "unavailable: " + b.unavailable;
-      results.push_back(r);
-    }
+    for (const BenchBackend& b : backends) results.push_back(empty_result(scenes[s], b));
   const std::size_t runs = std::max<std::size_t>(1, std::size_t(o.repeat) * results.size());
   std::size_t done = 0;
   for (int rep = 0; rep < o.repeat; ++rep)

@@ -1,0 +1,177 @@
+// The bench's reports from hand-made data: what a run's report.json gives (record_run), the
+// comparison of a backend with cpu (ratios of paired runs with start-up, triangle and energy
+// differences), the JSON's fields and values, and the scene table. No timing is measured.
+#include <gtest/gtest.h>
+
+#include <iterator>
+#include <sstream>
+
+#include "batch/bench.hpp"
+
+using namespace fracref;
+using nlohmann::ordered_json;
+
+namespace {
+
+/// The wall on cpu and on vulkan (3 runs each), and the branch on cpu with vulkan unavailable.
+std::vector<SceneBenchResult> hand_made_results() {
+  SceneBenchResult cpu;
+  cpu.scene = "wall", cpu.backend = "cpu", cpu.backend_name = "cpu";
+  cpu.setup = {1.0, 1.0, 1.0}, cpu.refine = {3.0, 3.0, 3.0}, cpu.pieces = {0.5, 0.5, 0.5};
+  cpu.animate = {0.25, 0.25, 0.25}, cpu.total = {4.75, 4.75, 4.75};
+  cpu.final_energy = {2.0, 2.0, 2.0};
+  cpu.coarse_triangles = 204, cpu.refined_triangles = 1000, cpu.iterations = 12;
+  cpu.paper_coarse_triangles = 204, cpu.paper_refined_triangles = 208000, cpu.paper_seconds = 13.6;
+  SceneBenchResult vk = cpu;
+  vk.backend = "vulkan", vk.backend_name = "vulkan (llvmpipe)", vk.startup_seconds = 0.5;
+  vk.setup = {1.5, 1.5, 1.5}, vk.refine = {3.0, 3.5, 2.5}, vk.total = {5.25, 5.75, 4.75};
+  vk.final_energy = {2.01, 2.01, 2.01}, vk.refined_triangles = 1012;
+  SceneBenchResult branch_cpu;
+  branch_cpu.scene = "branch", branch_cpu.backend = "cpu", branch_cpu.backend_name = "cpu";
+  branch_cpu.setup = {0.1}, branch_cpu.refine = {0.2}, branch_cpu.pieces = {0.3}, branch_cpu.total = {0.6};
+  branch_cpu.final_energy = {0.0}, branch_cpu.coarse_triangles = 60, branch_cpu.refined_triangles = 181;
+  SceneBenchResult branch_vk;
+  branch_vk.scene = "branch", branch_vk.backend = "vulkan", branch_vk.backend_name = "vulkan";
+  branch_vk.error = "unavailable: no driver";
+  return {cpu, vk, branch_cpu, branch_vk};
+}
+
+}  // namespace
+
+TEST(BatchBenchReport, RecordRunReadsEveryStageTheFinalEnergyAndTheCounts) {
+  SceneBenchResult r;
+  record_run(ordered_json::parse(R"({"coarse_triangles": 8, "refined_triangles": 40, "initial_energy": 9.0,
+      "iterations": [{"energy": 5.0, "triangles": 20}, {"energy": 3.5, "triangles": 40}],
+      "seconds": {"setup": 0.1, "refine": 0.2, "pieces": 0.3, "animate": 0.4, "total": 1.0}})"),
+             r);
+  record_run(ordered_json::parse(R"({"coarse_triangles": 8, "refined_triangles": 8, "initial_energy": 9.0,
+      "iterations": [], "seconds": {"setup": 0.5, "refine": 0.0, "total": 0.5}})"),
+             r);
+  EXPECT_EQ(r.setup, (std::vector<double>{0.1, 0.5}));
+  EXPECT_EQ(r.refine, (std::vector<double>{0.2, 0.0}));
+  EXPECT_EQ(r.pieces, (std::vector<double>{0.3}));
+  EXPECT_EQ(r.animate, (std::vector<double>{0.4}));
+  EXPECT_EQ(r.total, (std::vector<double>{1.0, 0.5}));
+  EXPECT_EQ(r.final_energy, (std::vector<double>{3.5, 9.0}));  // no iteration: the initial energy
+  EXPECT_EQ(r.coarse_triangles, 8u);
+  EXPECT_EQ(r.refined_triangles, 8u);  // the last run's
+  EXPECT_EQ(r.iterations, 0u);
+
+  SceneBenchResult pre;  // stopped after preprocess: no refine, no energy
+  record_run(ordered_json::parse(R"({"coarse_triangles": 8, "seconds": {"setup": 0.1, "total": 0.1}})"), pre);
+  EXPECT_TRUE(pre.final_energy.empty());
+  EXPECT_FALSE(pre.refined_triangles.has_value());
+  EXPECT_FALSE(pre.iterations.has_value());
+  EXPECT_TRUE(pre.refine.empty());
+}
+
+TEST(BatchBenchReport, CompareBackendsPairsRunsAndAddsStartUp) {
+  const std::vector<SceneComparison> c = compare_backends(hand_made_results());
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_EQ(c[0].scene, "wall");
+  EXPECT_EQ(c[0].backend, "vulkan");
+  // (1.5 + {3, 3.5, 2.5} + 0.5) / (1 + 3 + 0) = {1.25, 1.375, 1.125}
+  ASSERT_EQ(c[0].setup_refine_ratios.size(), 3u);
+  EXPECT_DOUBLE_EQ(c[0].setup_refine_ratios[1], 1.375);
+  EXPECT_DOUBLE_EQ(*c[0].setup_refine_ratio, 1.25);
+  EXPECT_DOUBLE_EQ(*c[0].total_ratio, 5.25 / 4.75);
+  EXPECT_EQ(c[0].triangles_cpu, 1000u);
+  EXPECT_EQ(c[0].triangles_other, 1012u);
+  EXPECT_EQ(c[0].triangle_difference, 12);
+  EXPECT_DOUBLE_EQ(*c[0].triangle_relative_difference, 0.012);
+  EXPECT_DOUBLE_EQ(*c[0].energy_cpu, 2.0);
+  EXPECT_NEAR(*c[0].energy_relative_difference, 0.005, 1e-12);
+  // The unavailable backend: every figure missing.
+  EXPECT_EQ(c[1].scene, "branch");
+  EXPECT_EQ(c[1].triangles_cpu, 181u);
+  EXPECT_FALSE(c[1].triangles_other.has_value());
+  EXPECT_FALSE(c[1].triangle_difference.has_value());
+  EXPECT_FALSE(c[1].energy_relative_difference.has_value());
+  EXPECT_TRUE(c[1].setup_refine_ratios.empty());
+  EXPECT_FALSE(c[1].setup_refine_ratio.has_value());
+  EXPECT_FALSE(c[1].total_ratio.has_value());
+}
+
+TEST(BatchBenchReport, CompareBackendsRelativeDifferencesAgainstZero) {
+  std::vector<SceneBenchResult> r = hand_made_results();
+  r[0].final_energy = {0.0}, r[1].final_energy = {0.0};
+  r[0].refined_triangles = 0, r[1].refined_triangles = 5;
+  const SceneComparison c = compare_backends(r)[0];
+  EXPECT_EQ(c.energy_relative_difference, 0.0);  // both 0
+  EXPECT_EQ(c.triangle_difference, 5);
+  EXPECT_FALSE(c.triangle_relative_difference.has_value());  // only cpu is 0
+  // A backend alone (no cpu result) is compared with nothing.
+  EXPECT_TRUE(compare_backends({r[1]}).empty());
+}
+
+TEST(BatchBenchReport, JsonCarriesEveryStageTheEnergyAndTheComparisons) {
+  auto cpu = make_cpu_backend(1);
+  const std::vector<BenchBackend> backends = {{"cpu", cpu.get(), "", 0.001}, {"vulkan", nullptr, "no driver"}};
+  const ordered_json j = bench_json(hand_made_results(), {}, backends, 3, Stage::animate, {});
+  EXPECT_EQ(j["stop_after"], "animate");
+  EXPECT_EQ(j["backends"]["cpu"]["startup_seconds"], 0.001);
+  const ordered_json& vk = j["results"][1];
+  EXPECT_EQ(vk["median_seconds"]["animate"], 0.25);
+  EXPECT_EQ(vk["samples_seconds"]["refine"], (std::vector<double>{3.0, 3.5, 2.5}));
+  EXPECT_EQ(vk["to_cpu"]["animate"], 1.0);
+  EXPECT_EQ(vk["final_energy"], 2.01);
+  EXPECT_EQ(vk["samples_final_energy"].size(), 3u);
+  EXPECT_EQ(vk["coarse_triangles"], 204);
+  EXPECT_EQ(vk["refined_triangles"], 1012);
+  EXPECT_EQ(vk["paper_seconds"], 13.6);
+  EXPECT_DOUBLE_EQ(vk["refine_to_paper"].get<double>(), 3.0 / 13.6);
+  EXPECT_FALSE(j["results"][2]["median_seconds"].contains("animate"));  // the branch did not animate
+
+  ASSERT_EQ(j["comparisons"].size(), 2u);
+  const ordered_json& c = j["comparisons"][0];
+  EXPECT_EQ(c["scene"], "wall");
+  EXPECT_EQ(c["triangles_cpu"], 1000);
+  EXPECT_EQ(c["triangles_vulkan"], 1012);
+  EXPECT_EQ(c["triangle_difference"], 12);
+  EXPECT_DOUBLE_EQ(c["triangle_relative_difference"].get<double>(), 0.012);
+  EXPECT_EQ(c["energy_cpu"], 2.0);
+  EXPECT_EQ(c["energy_vulkan"], 2.01);
+  EXPECT_NEAR(c["energy_relative_difference"].get<double>(), 0.005, 1e-12);
+  EXPECT_EQ(c["setup_refine_ratio"], 1.25);
+  EXPECT_EQ(c["setup_refine_ratios"].size(), 3u);
+  EXPECT_DOUBLE_EQ(c["total_ratio"].get<double>(), 5.25 / 4.75);
+  const ordered_json& none = j["comparisons"][1];
+  EXPECT_EQ(none["scene"], "branch");
+  EXPECT_TRUE(none["triangles_vulkan"].is_null());
+  EXPECT_TRUE(none["triangle_difference"].is_null());
+  EXPECT_TRUE(none["energy_relative_difference"].is_null());
+  EXPECT_TRUE(none["setup_refine_ratio"].is_null());
+}
+
+TEST(BatchBenchReport, SceneTableShowsStagesAndTheComparison) {
+  const std::string t = scene_table(hand_made_results(), 3, Stage::animate);
+  for (const char* header : {"triangles", "final energy", "setup s", "refine s", "pieces s", "animate s", "total s",
+                             "paper s", "refine/paper", "vs cpu", "setup+refine", "refined triangles"})
+    EXPECT_NE(t.find(header), std::string::npos) << header << "\n" << t;
+  EXPECT_NE(t.find("204 -> 1012"), std::string::npos) << t;
+  EXPECT_NE(t.find("2.01 "), std::string::npos) << t;  // the vulkan wall's final energy
+  EXPECT_NE(t.find("204 -> 208000"), std::string::npos) << t;
+  EXPECT_NE(t.find("13.60"), std::string::npos) << t;
+  EXPECT_NE(t.find("0.221x"), std::string::npos) << t;  // refine 3 / paper 13.6
+  // The comparison row of the wall: setup+refine, total, triangles, energy.
+  const std::size_t second = t.find("setup+refine");
+  ASSERT_NE(second, std::string::npos) << t;
+  const std::size_t row = t.find("\nwall ", second);
+  ASSERT_NE(row, std::string::npos) << t;
+  std::istringstream cells(t.substr(row + 1, t.find('\n', row + 1) - row - 1));
+  const std::vector<std::string> got{std::istream_iterator<std::string>(cells), std::istream_iterator<std::string>()};
+  EXPECT_EQ(got, (std::vector<std::string>{"wall", "vulkan", "1.25x", "1.11x", "+12", "(+1.20%)", "+0.50%"})) << t;
+  EXPECT_NE(t.find("vulkan 0.500 s"), std::string::npos) << t;  // the start-up, in the footer
+  EXPECT_NE(t.find("  ! branch on vulkan: unavailable: no driver"), std::string::npos) << t;
+  EXPECT_EQ(t.find("Stopped after"), std::string::npos) << t;  // the whole pipeline ran
+  EXPECT_EQ(t.find("not robust"), std::string::npos) << t;
+  EXPECT_NE(scene_table(hand_made_results(), 3, Stage::pieces).find("Stopped after pieces."), std::string::npos);
+}
+
+TEST(BatchBenchReport, SceneTableWithoutASecondBackendHasNoComparison) {
+  const std::vector<SceneBenchResult> r = hand_made_results();
+  const std::string t = scene_table({r[0], r[2]}, 3, Stage::animate);
+  EXPECT_EQ(t.find("setup+refine"), std::string::npos) << t;
+  EXPECT_NE(t.find("0.250"), std::string::npos) << t;  // the wall's animate median
+  EXPECT_TRUE(scene_table({}, 3, Stage::animate).empty());
+}
