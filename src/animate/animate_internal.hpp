@@ -44,4 +44,15 @@ void setup_deformation(AnimationTransfer& transfer, const CoarseModel& model, co
 /// Index of anchor (m, p) in transfer.anchors, or UINT32_MAX.
 std::uint32_t find_anchor(const AnimationTransfer& transfer, std::uint32_t model_vertex, int piece);
 
+/// Per piece, its faces on piece-local vertex ids (the index in layout.vertices[p]), outside
+/// faces first, then inside ones (the order of pieces/piece_NNN.obj), each with its inside flag.
+struct LocalFaces {
+  std::vector<std::vector<Tri>> faces;
+  std::vector<std::vector<std::uint8_t>> inside;
+};
+
+/// `what` names the caller in messages. \throw RunError when the layout has another piece
+/// count than `pieces`, or a piece uses a vertex the layout does not list.
+LocalFaces local_faces(const PieceSet& pieces, const PieceLayout& layout, const char* what);
+
 }  // namespace fracref::animate_detail

@@ -5,13 +5,14 @@
 #include <functional>
 
 #include "animate/animate.hpp"
+#include "animate/animate_internal.hpp"
 #include "util/atomic_output.hpp"
 #include "util/error.hpp"
 
 namespace fracref {
 namespace {
 
-using Tri = std::array<std::uint32_t, 3>;
+using animate_detail::Tri;
 
 std::string numbered(const char* format, std::size_t n) {
   char buffer[48];
@@ -25,43 +26,7 @@ void append_number(std::string& out, double value) {
   out.append(buffer, result.ptr);
 }
 
-// Per piece, its faces on 1-based file vertex ids: outside faces first, then inside ones (the
-// order of pieces/piece_NNN.obj), each with its inside flag.
-struct FrameFaces {
-  std::vector<std::vector<Tri>> faces;
-  std::vector<std::vector<std::uint8_t>> inside;
-};
-
-FrameFaces frame_faces(const PieceSet& pieces, const PieceLayout& layout) {
-  if (layout.vertices.size() != pieces.pieces.size())
-    throw RunError("write_frames: the animation has " + std::to_string(layout.vertices.size()) + " pieces, the piece set " +
-                   std::to_string(pieces.pieces.size()));
-  FrameFaces out;
-  for (std::size_t p = 0; p < pieces.pieces.size(); ++p) {
-    const PieceSet::Piece& piece = pieces.pieces[p];
-    const std::vector<std::uint32_t>& used = layout.vertices[p];
-    std::vector<Tri> faces;
-    std::vector<std::uint8_t> inside;
-    for (std::uint8_t group : {std::uint8_t(0), std::uint8_t(1)})
-      for (std::size_t t = 0; t < piece.triangles.size(); ++t) {
-        if (piece.inside[t] != group) continue;
-        Tri local;
-        for (int k = 0; k < 3; ++k) {
-          auto it = std::lower_bound(used.begin(), used.end(), piece.triangles[t][k]);
-          if (it == used.end() || *it != piece.triangles[t][k])
-            throw RunError("write_frames: piece " + std::to_string(p) + " uses a vertex the animation does not move");
-          local[k] = layout.offsets[p] + std::uint32_t(it - used.begin()) + 1;
-        }
-        faces.push_back(local);
-        inside.push_back(group);
-      }
-    out.faces.push_back(std::move(faces));
-    out.inside.push_back(std::move(inside));
-  }
-  return out;
-}
-
-std::string frame_text(const FrameFaces& f, const PieceLayout& layout, const std::vector<glm::dvec3>& x, std::size_t frame,
+std::string frame_text(const animate_detail::LocalFaces& f, const PieceLayout& layout, const std::vector<glm::dvec3>& x, std::size_t frame,
                        std::size_t frame_count, double fps) {
   std::string out = "# fracref frame " + std::to_string(frame) + " of " + std::to_string(frame_count) + ", fps ";
   append_number(out, fps);
@@ -84,7 +49,9 @@ std::string frame_text(const FrameFaces& f, const PieceLayout& layout, const std
         out += material ? "usemtl inside\n" : "usemtl outside\n";
       }
       const Tri& tri = f.faces[p][t];
-      out += "f " + std::to_string(tri[0]) + ' ' + std::to_string(tri[1]) + ' ' + std::to_string(tri[2]) + '\n';
+      const std::uint32_t base = layout.offsets[p] + 1;  // OBJ ids are 1-based and global to the file
+      out += "f " + std::to_string(tri[0] + base) + ' ' + std::to_string(tri[1] + base) + ' ' +
+             std::to_string(tri[2] + base) + '\n';
     }
   }
   return out;
@@ -98,7 +65,7 @@ const char* material_text() {
 
 void write_all(const PieceSet& pieces, const PieceLayout& layout, std::size_t frame_count, double fps,
                const std::filesystem::path& out, const std::function<std::vector<glm::dvec3>(std::size_t)>& frame) {
-  const FrameFaces faces = frame_faces(pieces, layout);
+  const animate_detail::LocalFaces faces = animate_detail::local_faces(pieces, layout, "write_frames");
   const std::filesystem::path dir = out / "frames";
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
@@ -114,6 +81,37 @@ void write_all(const PieceSet& pieces, const PieceLayout& layout, std::size_t fr
 }
 
 }  // namespace
+
+namespace animate_detail {
+
+LocalFaces local_faces(const PieceSet& pieces, const PieceLayout& layout, const char* what) {
+  if (layout.vertices.size() != pieces.pieces.size())
+    throw RunError(std::string(what) + ": the animation has " + std::to_string(layout.vertices.size()) +
+                   " pieces, the piece set " + std::to_string(pieces.pieces.size()));
+  LocalFaces out;
+  for (std::size_t p = 0; p < pieces.pieces.size(); ++p) {
+    const PieceSet::Piece& piece = pieces.pieces[p];
+    const std::vector<std::uint32_t>& used = layout.vertices[p];
+    out.faces.emplace_back();
+    out.inside.emplace_back();
+    for (std::uint8_t group : {std::uint8_t(0), std::uint8_t(1)})
+      for (std::size_t t = 0; t < piece.triangles.size(); ++t) {
+        if (piece.inside[t] != group) continue;
+        Tri local;
+        for (int k = 0; k < 3; ++k) {
+          auto it = std::lower_bound(used.begin(), used.end(), piece.triangles[t][k]);
+          if (it == used.end() || *it != piece.triangles[t][k])
+            throw RunError(std::string(what) + ": piece " + std::to_string(p) + " uses a vertex the animation does not move");
+          local[k] = std::uint32_t(it - used.begin());
+        }
+        out.faces.back().push_back(local);
+        out.inside.back().push_back(group);
+      }
+  }
+  return out;
+}
+
+}  // namespace animate_detail
 
 AnimationResult animate_pieces(const CoarseModel& model, const CoarseAnimation& animation, const RefinementTree& tree,
                                const PieceSet& pieces, const AnimateOptions& options) {

@@ -1,0 +1,79 @@
+#pragma once
+// The high-resolution animation as one glTF 2.0 binary (OUT/animation.glb), for Blender,
+// three.js and any other glTF 2.0 reader. Self-contained: no external library; the JSON is
+// written by hand in a fixed order, so the same input gives the same bytes.
+//
+// Layout of the file (glTF 2.0, "GLB" container, little-endian):
+//  - header: magic 0x46546C67 ("glTF"), version 2, total length; then a JSON chunk padded with
+//    spaces and a BIN chunk padded with zeros, each a multiple of 4 bytes long.
+//  - one node and one mesh per piece, both named piece_NNN (as in pieces/ and frames/), in
+//    piece order, all in scene 0. A mesh has up to two primitives sharing one POSITION accessor:
+//    "exterior" (the faces from B, material `exterior`, grey) and "inside" (the fracture faces,
+//    material `inside`, a warm colour); a primitive with no face is left out. Vertex i of a mesh
+//    is vertex i of pieces/piece_NNN.ply and of the piece's group in every frame OBJ; faces are
+//    in the order of pieces/piece_NNN.obj. Indices are uint32, positions float32, no normals
+//    (readers compute flat ones, as the glTF specification requires).
+//  - the animation is morph targets: the base POSITION is frame 0, and every further kept frame
+//    is one morph target holding POSITION deltas (frame minus base, float32). A target in
+//    which a piece does not move is an accessor without buffer view (all zeros). Every
+//    POSITION accessor, morph targets included, carries min and max. mesh.extras.targetNames
+//    names the targets frame_NNNN (the frame index from 0).
+//  - one animation "fracture" with one `weights` channel per node; all samplers share the
+//    input (the kept frames' times, frame / fps seconds) and the output (LINEAR: at the kept
+//    frame j the weights are the unit vector of target j, all zero at frame 0), so a reader
+//    interpolates positions linearly between kept frames. animations[0].extras holds
+//    `frame_count` (frames of the animation) and `frame_step` (see GltfOptions).
+//  With a single frame there are no morph targets and no animation.
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "animate/animate.hpp"
+#include "coarse/animation.hpp"
+#include "pieces/pieces.hpp"
+
+namespace fracref {
+
+struct GltfOptions {
+  /// Budget in bytes for the binary data (positions, indices, morph targets, animation keys).
+  /// Morph targets grow as kept frames x vertices x 12 bytes (and the weight keys as kept
+  /// frames squared x 4): when keeping every frame would exceed the budget, only frames 0, k,
+  /// 2k, ... and the last are kept, with k the smallest step that fits. The first and the last
+  /// frame are always kept, even over the budget. Peak memory while encoding is about twice
+  /// the file size (the data, then the file).
+  std::size_t max_bytes = std::size_t(256) << 20;
+};
+
+/// What encode_animation_glb wrote.
+struct GltfSummary {
+  std::size_t frame_count = 0;  ///< frames of the animation
+  std::size_t frame_step = 1;   ///< k: frames 0, k, 2k, ... and the last one are kept
+  std::size_t frames_kept = 0;  ///< morph targets per mesh + 1
+  std::size_t bytes = 0;        ///< size of the GLB file
+  bool over_budget = false;     ///< even the first and last frames alone exceed max_bytes
+};
+
+/// The frames a step keeps: 0, step, 2 step, ... and frame_count - 1, ascending.
+/// \pre step >= 1.
+std::vector<std::size_t> gltf_kept_frames(std::size_t frame_count, std::size_t step);
+
+/// The animation of `pieces` in `result` as the bytes of a GLB file (layout: the file comment).
+/// \pre `result` was computed for `pieces` (animate_pieces).
+/// \throw RunError when `result` has no frame, a frame without one position per slot, a
+///        non-finite position, a layout that does not fit `pieces` (write_frames' messages), or
+///        when the file would reach 4 GiB (the GLB limit).
+std::string encode_animation_glb(const PieceSet& pieces, const AnimationResult& result, const GltfOptions& options = {},
+                                 GltfSummary* summary = nullptr);
+
+/// encode_animation_glb written to `file` through write_file_atomic.
+/// \throw RunError as encode_animation_glb, or when the file cannot be written.
+GltfSummary write_animation_glb(const PieceSet& pieces, const AnimationResult& result, const std::filesystem::path& file,
+                                const GltfOptions& options = {});
+
+/// The same, evaluating one kept frame at a time with transfer_frame (memory: the file and one
+/// frame). \pre `transfer` was built from `animation` and `pieces`.
+GltfSummary write_animation_glb(const PieceSet& pieces, const AnimationTransfer& transfer, const CoarseAnimation& animation,
+                                const std::filesystem::path& file, const GltfOptions& options = {});
+
+}  // namespace fracref
