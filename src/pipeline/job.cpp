@@ -13,6 +13,7 @@
 #include "pipeline/material.hpp"
 #include "pipeline/strength.hpp"
 #include "animate/animate.hpp"
+#include "animate/gltf_writer.hpp"
 #include "pieces/pieces.hpp"
 #include "refine/refine.hpp"
 #include "util/atomic_output.hpp"
@@ -162,6 +163,7 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   AnimationTransfer transfer = build_transfer(model, animation, refined.tree, pieces);
   if (scene.output.frames) write_frames(pieces, transfer, animation, out);
   report.animated(transfer, scene.output.frames ? animation.frames.size() : 0);
+  if (scene.output.glb) report.gltf(write_animation_glb(pieces, transfer, animation, out / "animation.glb"));
   const int sheet = o.preview_frames.value_or(scene.output.preview_frames);
   if (sheet > 0) write_png(out / "preview_frames.png", preview_frames(pieces, transfer, animation, sheet));
   report.seconds("animate", seconds_since(t_animate));

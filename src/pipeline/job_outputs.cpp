@@ -63,6 +63,14 @@ void JobReport::animated(const AnimationTransfer& transfer, std::size_t frames_w
   j_["coarse_vertices_fracturing"] = fractured;
 }
 
+void JobReport::gltf(const GltfSummary& g) {
+  j_["glb"] = {{"bytes", g.bytes}, {"frames_kept", g.frames_kept}, {"frame_step", g.frame_step}};
+  if (g.frame_step > 1 || g.over_budget)
+    note("animation.glb: " + std::to_string(g.frames_kept) + " of " + std::to_string(g.frame_count) +
+         " frames kept (frame step " + std::to_string(g.frame_step) + ", and the last frame): " +
+         (g.over_budget ? "even these exceed" : "all of them would exceed") + " the byte budget of the glb");
+}
+
 void JobReport::seconds(const std::string& key, double value) { j_["seconds"][key] = value; }
 
 void JobReport::note(const std::string& text) { j_["notes"].push_back(text); }

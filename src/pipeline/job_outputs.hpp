@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "animate/animate.hpp"
+#include "animate/gltf_writer.hpp"
 #include "coarse/animation.hpp"
 #include "coarse/coarse_model.hpp"
 #include "field/grid.hpp"
@@ -28,6 +29,8 @@ class JobReport {
                const Grid3& zeta);
   void pieces(const PieceSet& pieces, const PieceReport& checked);
   void animated(const AnimationTransfer& transfer, std::size_t frames_written);
+  /// `glb`: bytes, frames_kept, frame_step of animation.glb; a note when frames were dropped.
+  void gltf(const GltfSummary& summary);
   void seconds(const std::string& key, double value);
   void note(const std::string& text);
   /// Renders the preview (when the scene asks for one), writes report.json, returns the report.
