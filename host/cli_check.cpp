@@ -32,7 +32,7 @@ int run_check(const CheckCliOptions& o) {
 void add_check_command(CLI::App& app, Action& action) {
   auto opts = std::make_shared<CheckCliOptions>();
   CLI::App* sub = app.add_subcommand(
-      "check", "Re-verify an output folder: pieces closed, manifold, outward, intersection-free, partition, frames");
+      "check", "Re-verify an output folder: pieces closed, manifold, outward, intersection-free, partition, frames, glb");
   sub->add_option("folder", opts->folder, "output folder written by refine or demo")->required();
   sub->add_flag("--json", opts->json, "print one JSON object");
   sub->footer("Exit codes: 0 every check passed; 1 a check failed (each failure names the piece or frame);\n"

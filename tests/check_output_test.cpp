@@ -6,6 +6,8 @@
 #include <cmath>
 #include <fstream>
 
+#include <nlohmann/json.hpp>
+
 #include "check/check_output.hpp"
 #include "geom/shapes.hpp"
 #include "io/mesh_io.hpp"
@@ -75,6 +77,83 @@ std::string frame_text(const PieceSet& set, std::size_t t) {
   return out;
 }
 
+// animation.glb written by hand, independently of fracref's writer: per piece a mesh with an
+// "exterior" and an "inside" primitive on the piece file's vertex order, frames 1.. as morph
+// targets (piece p moved by 0.1 t p along x, as frame_text), one weights channel per node.
+struct HandGlb {
+  nlohmann::ordered_json json;
+  std::string bin;
+
+  std::size_t add(const std::string& data, int component, std::size_t count, const char* type, nlohmann::ordered_json bounds) {
+    json["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", data.size()}});
+    bin += data;
+    nlohmann::ordered_json a = {{"bufferView", json["bufferViews"].size() - 1}, {"componentType", component}, {"count", count}, {"type", type}};
+    if (!bounds.is_null()) a["min"] = bounds[0], a["max"] = bounds[1];
+    json["accessors"].push_back(a);
+    return json["accessors"].size() - 1;
+  }
+  template <class T>
+  static std::string bytes(const std::vector<T>& v) {  // the test host is little-endian, as GLB
+    return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  }
+  std::size_t add_vec3(const std::vector<float>& xyz) {
+    nlohmann::ordered_json lo = {xyz[0], xyz[1], xyz[2]}, hi = lo;
+    for (std::size_t i = 0; i < xyz.size(); ++i) lo[i % 3] = std::min(lo[i % 3].get<float>(), xyz[i]), hi[i % 3] = std::max(hi[i % 3].get<float>(), xyz[i]);
+    return add(bytes(xyz), 5126, xyz.size() / 3, "VEC3", {lo, hi});
+  }
+  void add_piece(const PieceSet& set, std::size_t p, std::size_t frames) {
+    const auto& piece = set.pieces[p];
+    std::vector<std::uint32_t> used;
+    for (const auto& tri : piece.triangles) used.insert(used.end(), tri.begin(), tri.end());
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    std::vector<float> xyz;
+    for (std::uint32_t v : used) xyz.insert(xyz.end(), {float(set.positions[v].x), float(set.positions[v].y), float(set.positions[v].z)});
+    const std::size_t position = add_vec3(xyz);
+    nlohmann::ordered_json targets = nlohmann::ordered_json::array();
+    for (std::size_t t = 1; t < frames; ++t) {
+      std::vector<float> d(xyz.size(), 0.0f);
+      for (std::size_t i = 0; i < d.size(); i += 3) d[i] = float(0.1 * double(t) * double(p));
+      targets.push_back({{"POSITION", add_vec3(d)}});
+    }
+    nlohmann::ordered_json prims = nlohmann::ordered_json::array();
+    for (std::uint8_t group : {0, 1}) {
+      std::vector<std::uint32_t> idx;
+      for (std::size_t f = 0; f < piece.triangles.size(); ++f)
+        if (piece.inside[f] == group)
+          for (std::uint32_t v : piece.triangles[f]) idx.push_back(std::uint32_t(std::lower_bound(used.begin(), used.end(), v) - used.begin()));
+      const std::size_t indices = add(bytes(idx), 5125, idx.size(), "SCALAR", nullptr);
+      prims.push_back({{"attributes", {{"POSITION", position}}}, {"indices", indices}, {"material", group}, {"targets", targets}});
+    }
+    char name[32];
+    std::snprintf(name, sizeof name, "piece_%03zu", p);
+    json["meshes"].push_back({{"name", name}, {"primitives", prims}});
+    json["nodes"].push_back({{"name", name}, {"mesh", p}});
+  }
+  HandGlb(const PieceSet& set, std::size_t frames) {
+    json["asset"] = {{"version", "2.0"}, {"generator", "hand"}};
+    json["materials"] = {{{"name", "exterior"}}, {{"name", "inside"}}};
+    for (std::size_t p = 0; p < set.pieces.size(); ++p) add_piece(set, p, frames);
+    std::vector<float> times, weights;
+    for (std::size_t t = 0; t < frames; ++t) {
+      times.push_back(float(double(t) / 24.0));
+      for (std::size_t k = 1; k < frames; ++k) weights.push_back(k == t ? 1.0f : 0.0f);
+    }
+    const std::size_t input = add(bytes(times), 5126, times.size(), "SCALAR", {{times.front()}, {times.back()}});
+    const std::size_t output = add(bytes(weights), 5126, weights.size(), "SCALAR", nullptr);
+    nlohmann::ordered_json anim = {{"channels", nlohmann::ordered_json::array()}, {"samplers", {{{"input", input}, {"output", output}}}}};
+    for (std::size_t p = 0; p < set.pieces.size(); ++p) anim["channels"].push_back({{"sampler", 0}, {"target", {{"node", p}, {"path", "weights"}}}});
+    json["animations"] = {anim};
+    json["buffers"] = {{{"byteLength", bin.size()}}};
+  }
+  std::string pack(std::string text = "") const {
+    if (text.empty()) text = json.dump();
+    text.append((4 - text.size() % 4) % 4, ' ');
+    std::vector<std::uint32_t> head = {0x46546C67, 2, std::uint32_t(12 + 8 + text.size() + 8 + bin.size()), std::uint32_t(text.size()), 0x4E4F534A};
+    return bytes(head) + text + bytes(std::vector<std::uint32_t>{std::uint32_t(bin.size()), 0x004E4942}) + bin;
+  }
+};
+
 class CheckOutput : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -90,6 +169,7 @@ class CheckOutput : public ::testing::Test {
     for (std::size_t p = 0; p < 2; ++p) report["piece_meshes"].push_back({{"piece", p}, {"triangles", set_.pieces[p].triangles.size()}});
     write("report.json", report.dump(2));
     for (std::size_t t = 0; t < 3; ++t) write("frames/frame_000" + std::to_string(t) + ".obj", frame_text(set_, t));
+    write("animation.glb", HandGlb(set_, 3).pack());
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -124,12 +204,14 @@ TEST_F(CheckOutput, ValidFolderPasses) {
   EXPECT_EQ(r.exit_code(), 0);
   EXPECT_EQ(r.pieces, 2u);
   EXPECT_EQ(r.frames, 3u);
-  ASSERT_EQ(r.checks.size(), 6u);
+  ASSERT_EQ(r.checks.size(), 7u);
   for (const CheckResult& c : r.checks) EXPECT_EQ(c.status, CheckStatus::kPassed) << c.name << ": " << c.detail;
   const auto j = check_report_json(r);
   EXPECT_EQ(j["ok"], true);
   EXPECT_EQ(j["checks"][5]["name"], "frames");
   EXPECT_EQ(j["checks"][5]["status"], "passed");
+  EXPECT_EQ(j["checks"][6]["name"], "glb");
+  EXPECT_EQ(j["checks"][6]["detail"], "2 nodes, 2 morph targets each, " + std::to_string(fs::file_size(dir_ / "animation.glb")) + " bytes");
 }
 
 TEST_F(CheckOutput, ObjOnlyPiecesAreReadWithTheirMaterials) {
@@ -219,16 +301,72 @@ TEST_F(CheckOutput, MissingExteriorFailsThePartition) {
 
 TEST_F(CheckOutput, WithoutFramesOrPiecesTheChecksAreSkipped) {
   fs::remove_all(dir_ / "frames");
+  fs::remove(dir_ / "animation.glb");
   CheckReport r = check_output(dir_);
   EXPECT_TRUE(r.ok());
-  EXPECT_EQ(r.checks.back().name, "frames");
-  EXPECT_EQ(r.checks.back().status, CheckStatus::kSkipped);
+  ASSERT_EQ(r.checks.size(), 7u);
+  EXPECT_EQ(r.checks[5].name, "frames");
+  EXPECT_EQ(r.checks[5].status, CheckStatus::kSkipped);
+  EXPECT_EQ(r.checks[6].name, "glb");
+  EXPECT_EQ(r.checks[6].status, CheckStatus::kSkipped);
   fs::remove_all(dir_ / "pieces");
   write("report.json", R"({"pieces": 2, "frames": 3})");
   r = check_output(dir_);
   EXPECT_TRUE(r.ok());
-  ASSERT_EQ(r.checks.size(), 6u);
-  for (std::size_t i = 1; i < 6; ++i) EXPECT_EQ(r.checks[i].status, CheckStatus::kSkipped);
+  ASSERT_EQ(r.checks.size(), 7u);
+  for (std::size_t i = 1; i < 7; ++i) EXPECT_EQ(r.checks[i].status, CheckStatus::kSkipped);
+}
+
+TEST_F(CheckOutput, TruncatedOrCorruptGlbIsNamed) {
+  const std::string good = HandGlb(set_, 3).pack();
+  write("animation.glb", good.substr(0, good.size() / 2));
+  EXPECT_EQ(failures_of("glb"), "animation.glb: header length " + std::to_string(good.size()) + ", the file has " +
+                                    std::to_string(good.size() / 2) + " bytes\n");
+  write("animation.glb", good.substr(0, 10));
+  EXPECT_EQ(failures_of("glb"), "animation.glb: 10 bytes, shorter than a GLB header and chunk header\n");
+  std::string bad = good;
+  bad[0] = 'X';
+  write("animation.glb", bad);
+  EXPECT_EQ(failures_of("glb"), "animation.glb: magic 0x46546C58, expected 0x46546C67 ('glTF')\n");
+  bad = good;
+  bad[16] = 'B';  // the JSON chunk's type
+  write("animation.glb", bad);
+  EXPECT_NE(failures_of("glb").find("animation.glb: chunk 0 has type 0x4E4F5342, expected 0x4E4F534A"), std::string::npos);
+  bad = good;
+  bad[20] = '[';  // the JSON text
+  write("animation.glb", bad);
+  EXPECT_EQ(failures_of("glb"), "animation.glb: JSON chunk: byte 9: malformed JSON\n");
+}
+
+TEST_F(CheckOutput, GlbJsonThatDoesNotFitTheBinChunkOrThePiecesIsNamed) {
+  HandGlb g(set_, 3);
+  g.json["accessors"][0]["count"] = g.json["accessors"][0]["count"].get<std::size_t>() + 1;
+  write("animation.glb", g.pack());
+  EXPECT_NE(failures_of("glb").find("animation.glb: accessors[0]: "), std::string::npos);
+  g = HandGlb(set_, 3);
+  g.json["bufferViews"][1]["byteLength"] = g.bin.size();
+  write("animation.glb", g.pack());
+  EXPECT_NE(failures_of("glb").find("animation.glb: bufferViews[1]: bytes ["), std::string::npos);
+  g = HandGlb(set_, 3);
+  g.json["nodes"].erase(1);
+  write("animation.glb", g.pack());
+  EXPECT_EQ(failures_of("glb"), "animation.glb: 1 nodes, report.json has 2 pieces\n");
+  g = HandGlb(set_, 3);
+  g.json["meshes"][1]["primitives"][1]["targets"].erase(1);
+  write("animation.glb", g.pack());
+  EXPECT_EQ(failures_of("glb"), "animation.glb: meshes[1].primitives[1]: 1 morph targets, expected 2 (one per kept frame after the first)\n");
+  g = HandGlb(set_, 3);
+  g.json["meshes"][0]["primitives"][0]["material"] = 1;  // outside faces under the inside material
+  write("animation.glb", g.pack());
+  EXPECT_NE(failures_of("glb").find("triangles differ from the inside faces of pieces/piece_000.ply"), std::string::npos);
+  g = HandGlb(set_, 3);
+  g.json["accessors"][0].erase("min");
+  write("animation.glb", g.pack());
+  EXPECT_NE(failures_of("glb").find("POSITION accessor without min and max"), std::string::npos);
+  write("animation.glb", HandGlb(set_, 2).pack());  // report.json has 3 frames
+  EXPECT_NE(failures_of("glb").find("morph targets, expected 2"), std::string::npos);
+  write("animation.glb", g.pack(R"({"asset": {"version": "2.0"}, "asset": {}})"));
+  EXPECT_EQ(failures_of("glb"), "animation.glb: JSON chunk: key 'asset' repeated in one object\n");
 }
 
 TEST_F(CheckOutput, NotAFracrefOutputIsAnInputError) {

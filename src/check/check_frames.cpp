@@ -25,15 +25,6 @@ std::string group_name(std::size_t p) {
   return buffer;
 }
 
-// The piece's triangles in the order its OBJ (and every frame) lists them: outside, then inside.
-std::vector<Tri> obj_order(const PieceFile& f) {
-  std::vector<Tri> out;
-  for (std::uint8_t group : {std::uint8_t(0), std::uint8_t(1)})
-    for (std::size_t t = 0; t < f.mesh.triangles.size(); ++t)
-      if (f.inside[t] == group) out.push_back(f.mesh.triangles[t]);
-  return out;
-}
-
 // Frame files in frames/: the expected ones present, and the names of any others.
 void list_frames(const fs::path& dir, std::size_t count, std::vector<std::string>& missing, std::vector<std::string>& extra) {
   std::set<std::string> names;
@@ -102,6 +93,14 @@ void check_frame(const fs::path& path, const std::string& name, const std::vecto
 }
 
 }  // namespace
+
+std::vector<std::array<std::uint32_t, 3>> obj_order(const PieceFile& f, int only_group) {
+  std::vector<Tri> out;
+  for (std::uint8_t group : {std::uint8_t(0), std::uint8_t(1)})
+    for (std::size_t t = 0; t < f.mesh.triangles.size(); ++t)
+      if (f.inside[t] == group && (only_group < 0 || only_group == group)) out.push_back(f.mesh.triangles[t]);
+  return out;
+}
 
 void check_frames(const fs::path& out, const std::vector<PieceFile>& pieces, std::size_t frames, CheckReport& report) {
   std::vector<std::string> failures, missing, extra;

@@ -274,7 +274,7 @@ CheckReport check_output(const fs::path& out, const CheckOptions& options) {
   report.frames = count_key(report_json, "frames", report_file);
   record(report, "report", {}, std::to_string(report.pieces) + " pieces, " + std::to_string(report.frames) + " frames");
   if (!report_json.contains("piece_meshes") && !fs::exists(out / "pieces")) {
-    for (const char* name : {"piece_files", "piece_meshes", "partition", "shared_vertices", "frames"})
+    for (const char* name : {"piece_files", "piece_meshes", "partition", "shared_vertices", "frames", "glb"})
       record_skipped(report, name, "no pieces in this output (the run stopped before the pieces stage)");
     return report;
   }
@@ -283,6 +283,8 @@ CheckReport check_output(const fs::path& out, const CheckOptions& options) {
   check_shared(files, report);
   if (fs::exists(out / "frames")) check_frames(out, files, report.frames, report);
   else record_skipped(report, "frames", "no frames/ folder (the run did not animate)");
+  if (fs::exists(out / "animation.glb")) check_glb(out, files, report.frames, report);
+  else record_skipped(report, "glb", "no animation.glb (the run did not animate, or the scene's output.glb is false)");
   return report;
 }
 

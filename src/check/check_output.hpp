@@ -17,7 +17,7 @@ enum class CheckStatus { kPassed, kFailed, kSkipped };
 
 /// One named check and its outcome.
 struct CheckResult {
-  std::string name;    ///< "report", "piece_files", "piece_meshes", "partition", "shared_vertices", "frames"
+  std::string name;    ///< "report", "piece_files", "piece_meshes", "partition", "shared_vertices", "frames", "glb"
   CheckStatus status = CheckStatus::kSkipped;
   std::string detail;  ///< what was checked ("3 pieces, 12480 triangles"), or why it was skipped
 };
@@ -51,10 +51,22 @@ struct CheckReport {
 ///    bit for bit, as a vertex of a fracture face of another piece;
 ///  - frames: frames/frame_NNNN.obj for NNNN in [0, frames) and no other, each with groups
 ///    piece_000 .. in order, each group on its own consecutive vertices, as many as the piece
-///    file's, and the piece file's triangles (in its OBJ order: outside faces, then inside).
+///    file's, and the piece file's triangles (in its OBJ order: outside faces, then inside);
+///  - glb: animation.glb is a GLB 2 file (magic, version, length equal to the file size, a JSON
+///    and a BIN chunk, each a multiple of 4 bytes, nothing after them) whose JSON parses (no
+///    repeated key) with asset.version "2.0"; one buffer, the BIN chunk; every buffer view
+///    inside it and every accessor inside its view; one node per piece, named piece_NNN, whose
+///    mesh's primitives have float VEC3 POSITION accessors with min and max and as many
+///    vertices as the piece file, and uint32 triangles equal to the piece file's outside (or,
+///    for material "inside", inside) faces; as many morph targets as kept frames after the
+///    first (report.json's frames, thinned by animations[0].extras.frame_step as
+///    gltf_writer.hpp describes), each with min and max; one animation with one weights channel
+///    per node, its sampler keyed at every kept frame (input with min and max).
 /// The piece checks are skipped when report.json has no `piece_meshes` and there is no pieces/
 /// folder (a run stopped before the pieces stage); the frames check when there is no frames/
-/// folder (a run without the animate stage).
+/// folder (a run without the animate stage); the glb check when there is no animation.glb. The
+/// glb check stops at the first problem it finds and records it as its failure (never an
+/// InputError).
 /// \throw InputError when `out` is not a fracref output or a file in it cannot be read: no
 ///        folder, no or malformed report.json, a missing key, or a mesh the strict readers reject
 ///        (message naming the file, and line or byte, and the cause); also a piece PLY without
