@@ -173,6 +173,37 @@ TEST(GeomCcd, SheetsMovingThroughEachOtherAreCaught) {
   EXPECT_EQ(fracref::find_step_collisions(s.x0, s.x1, s.triangles, options), pairs);
 }
 
+// Skipping resting pairs drops exactly the pairs whose four vertices rest, with the mesh's edges
+// given in any order or derived.
+TEST(GeomCcd, SkippingRestingPairsKeepsEveryPairWithMotion) {
+  auto s = two_sheets({0, 0, 0.3}, {0, 0, -0.3}, 12);
+  for (std::size_t v = 0; v < s.x0.size(); v += 3) s.x1[v] = s.x0[v];  // a third of the vertices rest
+  const auto all = fracref::find_step_collisions(s.x0, s.x1, s.triangles);
+  std::vector<CcdPair> expected;
+  for (const CcdPair& p : all) {
+    bool moves = false;
+    for (std::uint32_t v : p.vertices) moves |= s.x0[v] != s.x1[v];
+    if (moves) expected.push_back(p);
+  }
+  ASSERT_FALSE(expected.empty());
+  fracref::StepCcdOptions options;
+  options.skip_resting_pairs = true;
+  EXPECT_EQ(fracref::find_step_collisions(s.x0, s.x1, s.triangles, options), expected);
+  std::vector<std::array<std::uint32_t, 2>> edges;
+  for (const auto& t : s.triangles)
+    for (int k = 0; k < 3; ++k) edges.push_back({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])});
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::reverse(edges.begin(), edges.end());
+  options.edges = &edges;
+  EXPECT_EQ(fracref::find_step_collisions(s.x0, s.x1, s.triangles, options), expected);
+  options.skip_resting_pairs = false;
+  EXPECT_EQ(fracref::find_step_collisions(s.x0, s.x1, s.triangles, options), all);
+  // Nothing moves: nothing to test.
+  options.skip_resting_pairs = true;
+  EXPECT_TRUE(fracref::find_step_collisions(s.x0, s.x0, s.triangles, options).empty());
+}
+
 TEST(GeomCcd, SheetsMovingApartOrRigidlyAreNotCaught) {
   const auto apart = two_sheets({0, 0, -0.3}, {0, 0, 0.3}, 12);
   EXPECT_TRUE(fracref::find_step_collisions(apart.x0, apart.x1, apart.triangles).empty());

@@ -86,6 +86,112 @@ CcdPair vertex_pair(CcdKind kind, std::uint32_t v, const std::array<std::uint32_
   return {kind, {v, tri[0], tri[1], tri[2]}, t};
 }
 
+
+// Which vertices, triangles and edges move over the step; with `all_moving` every used vertex
+// and every element counts as moving (the exhaustive test).
+struct Motion {
+  std::vector<std::uint32_t> moving_vertices, resting_vertices;
+  std::vector<std::uint32_t> moving_triangles;  // only filled when some used vertex rests
+  std::vector<std::uint32_t> moving_edges, resting_edges;
+};
+
+Motion classify_motion(const std::vector<dvec3>& x0, const std::vector<dvec3>& x1, const Tris& tris,
+                       const std::vector<Edge>& edges, bool skip_resting) {
+  std::vector<std::uint8_t> state(x0.size(), 0);  // bit 0: used, bit 1: moves
+  for (const auto& t : tris)
+    for (std::uint32_t v : t) state[v] = 1;
+  Motion m;
+  for (std::size_t v = 0; v < x0.size(); ++v) {
+    if (!state[v]) continue;
+    if (!skip_resting || x0[v] != x1[v]) state[v] |= 2;
+    ((state[v] & 2) ? m.moving_vertices : m.resting_vertices).push_back(std::uint32_t(v));
+  }
+  auto moves = [&](std::uint32_t v) { return (state[v] & 2) != 0; };
+  if (!m.resting_vertices.empty())
+    for (std::uint32_t t = 0; t < tris.size(); ++t)
+      if (moves(tris[t][0]) || moves(tris[t][1]) || moves(tris[t][2])) m.moving_triangles.push_back(t);
+  for (std::uint32_t e = 0; e < edges.size(); ++e)
+    ((moves(edges[e][0]) || moves(edges[e][1])) ? m.moving_edges : m.resting_edges).push_back(e);
+  return m;
+}
+
+// Builds trees over the swept boxes of subsets of a mesh's elements (tree item k = subset[k]).
+struct StepTrees {
+  const std::vector<dvec3>& x0;
+  const std::vector<dvec3>& x1;
+  double grow;
+  int threads;
+
+  template <std::size_t N>
+  Bvh build(const std::vector<std::array<std::uint32_t, N>>& elements, const std::vector<std::uint32_t>* subset,
+            double g) const {
+    const std::size_t n = subset ? subset->size() : elements.size();
+    std::vector<Aabb> boxes(n);
+    for (std::size_t k = 0; k < n; ++k) boxes[k] = swept_box(x0, x1, elements[subset ? (*subset)[k] : k], g);
+    BvhOptions o;
+    o.threads = threads;
+    return build_bvh(boxes, o);
+  }
+  Bvh vertices(const std::vector<std::uint32_t>& ids) const {
+    std::vector<Aabb> boxes(ids.size());
+    for (std::size_t k = 0; k < ids.size(); ++k) boxes[k] = swept_box(x0, x1, std::array<std::uint32_t, 1>{ids[k]}, 0.0);
+    BvhOptions o;
+    o.threads = threads;
+    return build_bvh(boxes, o);
+  }
+};
+
+std::vector<CcdPair> vertex_triangle_pairs(const StepTrees& trees, const Tris& tris, const Motion& m,
+                                           const CcdOptions& ccd) {
+  const auto& x0 = trees.x0;
+  const auto& x1 = trees.x1;
+  auto test = [&](std::uint32_t v, std::uint32_t t, std::vector<CcdPair>& found) {
+    const auto& tri = tris[t];
+    if (tri[0] == v || tri[1] == v || tri[2] == v) return;
+    if (ccd_vertex_triangle(x0[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], x1[v], x1[tri[0]], x1[tri[1]], x1[tri[2]], ccd))
+      found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
+  };
+  const Bvh tri_tree = trees.build(tris, nullptr, trees.grow);
+  auto out = collect_overlaps<CcdPair>(trees.vertices(m.moving_vertices), tri_tree, false, trees.threads,
+                                       [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
+                                         test(m.moving_vertices[k], t, found);
+                                       });
+  if (m.resting_vertices.empty() || m.moving_triangles.empty()) return out;
+  auto rest = collect_overlaps<CcdPair>(trees.vertices(m.resting_vertices), trees.build(tris, &m.moving_triangles, trees.grow),
+                                        false, trees.threads,
+                                        [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
+                                          test(m.resting_vertices[k], m.moving_triangles[t], found);
+                                        });
+  out.insert(out.end(), rest.begin(), rest.end());
+  return out;
+}
+
+// Both sides grown by half the distance: boxes of edges closer than min_distance overlap.
+std::vector<CcdPair> edge_edge_pairs(const StepTrees& trees, const std::vector<Edge>& edges, const Motion& m,
+                                     const CcdOptions& ccd) {
+  const auto& x0 = trees.x0;
+  const auto& x1 = trees.x1;
+  auto test = [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
+    Edge e = edges[i], f = edges[j];
+    if (shares_vertex(e, f)) return;
+    if (f < e) std::swap(e, f);
+    if (ccd_edge_edge(x0[e[0]], x0[e[1]], x0[f[0]], x0[f[1]], x1[e[0]], x1[e[1]], x1[f[0]], x1[f[1]], ccd))
+      found.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});
+  };
+  const Bvh moving = trees.build(edges, &m.moving_edges, 0.5 * trees.grow);
+  auto out = collect_overlaps<CcdPair>(moving, moving, true, trees.threads,
+                                       [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
+                                         test(m.moving_edges[i], m.moving_edges[j], found);
+                                       });
+  if (m.resting_edges.empty() || m.moving_edges.empty()) return out;
+  auto rest = collect_overlaps<CcdPair>(moving, trees.build(edges, &m.resting_edges, 0.5 * trees.grow), false,
+                                        trees.threads, [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
+                                          test(m.moving_edges[i], m.resting_edges[j], found);
+                                        });
+  out.insert(out.end(), rest.begin(), rest.end());
+  return out;
+}
+
 }  // namespace
 
 std::vector<CcdPair> find_step_collisions(const std::vector<dvec3>& x0, const std::vector<dvec3>& x1,
@@ -96,32 +202,12 @@ std::vector<CcdPair> find_step_collisions(const std::vector<dvec3>& x0, const st
   check_positions(x0, "start");
   check_positions(x1, "end");
   check_triangles(triangles, x0.size(), "mesh");
-  const CcdOptions& ccd = options.ccd;
-  const double grow = std::max(0.0, ccd.min_distance);
-  BvhOptions tree_options;
-  tree_options.threads = options.threads;
-  const auto vertices = used_vertices(triangles, x0.size());
-  const Bvh vertex_tree = build_bvh(swept_boxes(x0, x1, vertices, 0.0), tree_options);
-  const Bvh tri_tree = build_bvh(swept_boxes(x0, x1, triangles, grow), tree_options);
-  auto out = collect_overlaps<CcdPair>(
-      vertex_tree, tri_tree, false, options.threads, [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
-        const std::uint32_t v = vertices[k][0];
-        const auto& tri = triangles[t];
-        if (tri[0] == v || tri[1] == v || tri[2] == v) return;
-        if (ccd_vertex_triangle(x0[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], x1[v], x1[tri[0]], x1[tri[1]], x1[tri[2]], ccd))
-          found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
-      });
-  // Both sides grown by half the distance: boxes of edges closer than min_distance overlap.
-  const auto edges = unique_edges(triangles);
-  const Bvh edge_tree = build_bvh(swept_boxes(x0, x1, edges, 0.5 * grow), tree_options);
-  auto ee = collect_overlaps<CcdPair>(
-      edge_tree, edge_tree, true, options.threads, [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
-        const Edge& e = edges[i];
-        const Edge& f = edges[j];
-        if (shares_vertex(e, f)) return;
-        if (ccd_edge_edge(x0[e[0]], x0[e[1]], x0[f[0]], x0[f[1]], x1[e[0]], x1[e[1]], x1[f[0]], x1[f[1]], ccd))
-          found.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});
-      });
+  const std::vector<Edge> own_edges = options.edges ? std::vector<Edge>() : unique_edges(triangles);
+  const std::vector<Edge>& edges = options.edges ? *options.edges : own_edges;
+  const Motion motion = classify_motion(x0, x1, triangles, edges, options.skip_resting_pairs);
+  StepTrees trees{x0, x1, std::max(0.0, options.ccd.min_distance), options.threads};
+  std::vector<CcdPair> out = vertex_triangle_pairs(trees, triangles, motion, options.ccd);
+  std::vector<CcdPair> ee = edge_edge_pairs(trees, edges, motion, options.ccd);
   out.insert(out.end(), ee.begin(), ee.end());
   std::sort(out.begin(), out.end());
   return out;

@@ -89,14 +89,20 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
   const std::vector<std::array<std::uint32_t, 3>> near_b = faces_near_exterior(tris, x0, x1, clearance_at_x0);
   std::vector<std::uint8_t> on_b(x1.size(), 0);
   for (std::size_t i = 0; i < x1.size(); ++i) on_b[i] = (s.vertex_flags[i] & kVertexBoundary) ? 1 : 0;
+  std::vector<std::array<std::uint32_t, 2>> edges(s.edges.size());
+  for (std::size_t e = 0; e < s.edges.size(); ++e)
+    edges[e] = {std::min(s.edges[e].x, s.edges[e].y), std::max(s.edges[e].x, s.edges[e].y)};
   StepCcdOptions opts;
   opts.ccd.tolerance = 1e-7 * b.diagonal();
+  opts.skip_resting_pairs = true;  // resting pairs cannot change by freezing (see the loop's end)
   const std::vector<glm::dvec3> p0 = to_double(x0);
   // Each round resets every vertex of every colliding pair; the moving set shrinks strictly, so
   // the loop ends.
   for (;;) {
     std::vector<glm::dvec3> p1 = to_double(x1);
+    opts.edges = &edges;
     std::vector<CcdPair> pairs = find_step_collisions(p0, p1, tris, opts);
+    opts.edges = nullptr;
     opts.ignored_vertices = &on_b;
     std::vector<CcdPair> with_b = find_step_collisions_with_static(p0, p1, near_b, b.ccd, opts);
     opts.ignored_vertices = nullptr;
