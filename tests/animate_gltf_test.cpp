@@ -239,7 +239,7 @@ TEST_F(AnimateGltf, KeptFramesAreEveryKthAndTheLast) {
 TEST_F(AnimateGltf, OverTheByteBudgetOnlyEveryKthFrameIsKept) {
   const AnimationResult long_run = three_frames(set, 10);
   GltfOptions o;
-  o.max_bytes = 12 * 8 * 4 + 4 * 24 + 4 * 4 + 4 * 4 * 3;  // exactly 4 kept frames of 8 vertices
+  o.max_bytes = 12 * 8 * 4 + 4 * 24 + 4 * 4 + 4 * 4 * 3 + 256 * 2 * 4;  // exactly 4 kept frames of 8 vertices, 2 pieces
   GltfSummary s;
   const Glb g = parse_glb(encode_animation_glb(set, long_run, o, &s));
   EXPECT_EQ(s.frame_step, 3u);
@@ -275,6 +275,13 @@ TEST_F(AnimateGltf, BadFramesAreRunErrors) {
   r.layout.vertices[1] = {1, 2, 3};  // piece 1 uses vertex 4, which the layout does not move
   r.layout.offsets = {0, 4, 7};
   EXPECT_THROW(encode_animation_glb(set, r), RunError);
+  r = result;
+  r.fps = 0.0;
+  EXPECT_THROW(encode_animation_glb(set, r), RunError);
+  PieceSet no_faces = set;
+  no_faces.pieces[1].triangles.clear();
+  no_faces.pieces[1].inside.clear();
+  EXPECT_THROW(encode_animation_glb(no_faces, result), RunError);
 }
 
 }  // namespace

@@ -209,8 +209,8 @@ std::vector<MeshRefs> add_base(Glb& g, const LocalFaces& faces, const PieceLayou
   std::vector<MeshRefs> meshes(faces.faces.size());
   for (const glm::dvec3& p : x) base.insert(base.end(), {float(p.x), float(p.y), float(p.z)});
   for (std::size_t p = 0; p < meshes.size(); ++p) {
-    if (layout.offsets[p] == layout.offsets[p + 1])
-      throw RunError("animation.glb: piece " + std::to_string(p) + " has no vertex");
+    if (layout.offsets[p] == layout.offsets[p + 1] || faces.faces[p].empty())
+      throw RunError("animation.glb: piece " + std::to_string(p) + " has no triangle");
     meshes[p].position = add_vec3(g, std::vector<float>(base.begin() + 3 * layout.offsets[p], base.begin() + 3 * layout.offsets[p + 1]));
     const auto& inside = faces.inside[p];
     if (std::count(inside.begin(), inside.end(), 0)) meshes[p].exterior = add_indices(g, faces.faces[p], inside, 0);
@@ -241,8 +241,15 @@ std::pair<std::size_t, std::size_t> add_keys(Glb& g, const std::vector<std::size
   return {input, add_scalars(g, weights, false)};
 }
 
-std::size_t data_bytes(std::size_t kept, std::size_t vertices, std::size_t indices) {
-  return 12 * vertices * kept + 4 * indices + 4 * kept + 4 * kept * (kept - 1);
+// The file's size, but for the fixed part of the JSON (an accessor, view and target reference
+// take under 256 bytes of JSON per piece and kept frame).
+std::size_t data_bytes(std::size_t kept, std::size_t vertices, std::size_t indices, std::size_t pieces) {
+  return 12 * vertices * kept + 4 * indices + 4 * kept + 4 * kept * (kept - 1) + 256 * pieces * kept;
+}
+
+// gltf_kept_frames(frames, step).size(), without building the list.
+std::size_t kept_count(std::size_t frames, std::size_t step) {
+  return frames == 0 ? 0 : (frames - 1) / step + 1 + ((frames - 1) % step ? 1 : 0);
 }
 
 GltfSummary plan(const FrameSource& src, const LocalFaces& faces, const GltfOptions& o) {
@@ -251,8 +258,8 @@ GltfSummary plan(const FrameSource& src, const LocalFaces& faces, const GltfOpti
   GltfSummary s;
   s.frame_count = src.count;
   for (s.frame_step = 1;; ++s.frame_step) {
-    s.frames_kept = gltf_kept_frames(src.count, s.frame_step).size();
-    const std::size_t bytes = data_bytes(s.frames_kept, src.layout.slot_count(), indices);
+    s.frames_kept = kept_count(src.count, s.frame_step);
+    const std::size_t bytes = data_bytes(s.frames_kept, src.layout.slot_count(), indices, faces.faces.size());
     if (bytes <= o.max_bytes) break;
     if (s.frames_kept <= 2) {
       s.over_budget = true;
@@ -378,6 +385,7 @@ std::string assemble(const std::string& json, const std::string& bin) {
 
 std::string encode(const PieceSet& pieces, const FrameSource& src, const GltfOptions& o, GltfSummary* summary) {
   if (src.count == 0) throw RunError("animation.glb: the animation has no frame");
+  if (!(src.fps > 0.0) || !std::isfinite(src.fps)) throw RunError("animation.glb: fps " + std::to_string(src.fps) + " is not > 0");
   const LocalFaces faces = animate_detail::local_faces(pieces, src.layout, "animation.glb");
   GltfSummary s = plan(src, faces, o);
   const std::vector<std::size_t> kept = gltf_kept_frames(src.count, s.frame_step);

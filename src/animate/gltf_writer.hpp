@@ -36,10 +36,11 @@
 namespace fracref {
 
 struct GltfOptions {
-  /// Budget in bytes for the binary data (positions, indices, morph targets, animation keys).
-  /// Morph targets grow as kept frames x vertices x 12 bytes (and the weight keys as kept
-  /// frames squared x 4): when keeping every frame would exceed the budget, only frames 0, k,
-  /// 2k, ... and the last are kept, with k the smallest step that fits. The first and the last
+  /// Budget in bytes for the file (positions, indices, morph targets, animation keys, and an
+  /// allowance of 256 bytes of JSON per piece and kept frame). Morph targets grow as kept
+  /// frames x vertices x 12 bytes (and the weight keys as kept frames squared x 4): when keeping
+  /// every frame would exceed the budget, only frames 0, k, 2k, ... and the last are kept, with
+  /// k the smallest step that fits. The first and the last
   /// frame are always kept, even over the budget. Peak memory while encoding is about twice
   /// the file size (the data, then the file).
   std::size_t max_bytes = std::size_t(256) << 20;
@@ -60,9 +61,9 @@ std::vector<std::size_t> gltf_kept_frames(std::size_t frame_count, std::size_t s
 
 /// The animation of `pieces` in `result` as the bytes of a GLB file (layout: the file comment).
 /// \pre `result` was computed for `pieces` (animate_pieces).
-/// \throw RunError when `result` has no frame, a frame without one position per slot, a
-///        non-finite position, a layout that does not fit `pieces` (write_frames' messages), or
-///        when the file would reach 4 GiB (the GLB limit).
+/// \throw RunError when `result` has no frame, fps not > 0, a frame without one position per
+///        slot, a non-finite position, a piece without triangles, a layout that does not fit
+///        `pieces` (write_frames' messages), or when the file would reach 4 GiB (the GLB limit).
 std::string encode_animation_glb(const PieceSet& pieces, const AnimationResult& result, const GltfOptions& options = {},
                                  GltfSummary* summary = nullptr);
 
