@@ -226,7 +226,8 @@ std::map<std::uint32_t, double> poking_vertices(const ExteriorMesh& m, const std
 std::uint32_t retract_rim(FractureSurface& s, const ExteriorMesh& m, double tolerance);
 
 /// Moves each vertex of `push` that far into B, along the normal of B's triangle nearest to it.
-/// \throw RunError naming a pushed vertex when S then intersects itself at one of its faces.
+/// A vertex whose push makes S intersect itself at one of its faces has its push halved until S
+/// is clean, and after 6 halvings stays where it was (the poke it leaves is reported later).
 void push_inward(FractureSurface& s, const ExteriorMesh& m, const std::map<std::uint32_t, double>& push);
 
 /// "(x, y, z)" with 9 significant digits, for messages.

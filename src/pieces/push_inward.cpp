@@ -2,6 +2,7 @@
 // (pieces.hpp, step 3b).
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "geom/intersect.hpp"
 #include "pieces/pieces_internal.hpp"
@@ -19,6 +20,7 @@ constexpr double kMaxRetract = 0.3;
 // Self-intersections of S looked at after a push (those not involving a pushed vertex were
 // there before and are not this step's to report).
 constexpr std::size_t kReportedHits = 256;
+constexpr int kPushHalvings = 6;
 
 // How far the inside of triangle (a, b, c) lies outside B at most (0: not beyond `tolerance`),
 // and the barycentric weights of the corners there.
@@ -101,24 +103,44 @@ std::map<std::uint32_t, double> poking_vertices(const ExteriorMesh& m, const std
   return out;
 }
 
-void push_inward(FractureSurface& s, const ExteriorMesh& m, const std::map<std::uint32_t, double>& push) {
-  if (push.empty()) return;
-  for (const auto& [v, distance] : push) {
-    const glm::dvec3 p(glm::vec3(s.positions[v]));
-    const ClosestPoint cp = closest_point(m.bvh, p);
-    const glm::dvec3 n = m.face_normals[cp.triangle];
-    s.positions[v] = glm::vec4(glm::vec3(p - distance * n), s.positions[v].w);
-  }
+namespace {
+
+// The pushed vertices that take part in a self-intersection of S.
+std::set<std::uint32_t> pushed_into_itself(const FractureSurface& s, const std::map<std::uint32_t, double>& push) {
   std::vector<glm::dvec3> positions;
   for (const glm::vec4& p : s.positions) positions.emplace_back(glm::vec3(p));
   std::vector<TriangleIds> faces;
   for (const glm::uvec4& f : s.faces) faces.push_back({f.x, f.y, f.z});
+  std::set<std::uint32_t> out;
   for (const auto& [f, g] : find_self_intersections(positions, faces, kReportedHits))
     for (std::uint32_t x : {f, g})
       for (std::uint32_t v : faces[x])
-        if (push.count(v))
-          throw RunError("fracture surface vertex " + std::to_string(v) + ", pushed inward by " + std::to_string(push.at(v)) +
-                         " where its faces poked out of the exterior, makes the fracture surface intersect itself");
+        if (push.count(v)) out.insert(v);
+  return out;
+}
+
+}  // namespace
+
+// A full push can drive a vertex through a nearby sheet of S (two sheets drawn to the same weak
+// vein run close). Such a vertex's push is halved until S is clean again, and given up (the
+// vertex left where it was) after kPushHalvings; a poke it leaves is reported by the next check.
+void push_inward(FractureSurface& s, const ExteriorMesh& m, const std::map<std::uint32_t, double>& push) {
+  if (push.empty()) return;
+  std::map<std::uint32_t, std::pair<glm::dvec3, glm::dvec3>> start_and_offset;
+  for (const auto& [v, distance] : push) {
+    const glm::dvec3 p(glm::vec3(s.positions[v]));
+    const glm::dvec3 n = m.face_normals[closest_point(m.bvh, p).triangle];
+    start_and_offset[v] = {p, -distance * n};
+  }
+  std::map<std::uint32_t, double> scale;
+  for (const auto& [v, so] : start_and_offset) scale[v] = 1.0;
+  for (int round = 0; round <= kPushHalvings; ++round) {
+    for (const auto& [v, so] : start_and_offset)
+      s.positions[v] = glm::vec4(glm::vec3(so.first + scale[v] * so.second), s.positions[v].w);
+    const std::set<std::uint32_t> bad = pushed_into_itself(s, push);
+    if (bad.empty()) return;
+    for (std::uint32_t v : bad) scale[v] = round + 1 < kPushHalvings ? 0.5 * scale[v] : 0.0;
+  }
 }
 
 }  // namespace fracref::pieces_detail
