@@ -202,6 +202,54 @@ TEST(GeomCcd, SkippingRestingPairsKeepsEveryPairWithMotion) {
   // Nothing moves: nothing to test.
   options.skip_resting_pairs = true;
   EXPECT_TRUE(fracref::find_step_collisions(s.x0, s.x0, s.triangles, options).empty());
+  // Active vertices: exactly the pairs with one of them, whether or not it moves.
+  std::vector<std::uint8_t> active(s.x0.size(), 0);
+  for (std::size_t v = 0; v < s.x0.size(); v += 7) active[v] = 1;
+  std::vector<CcdPair> with_active;
+  for (const CcdPair& p : all) {
+    bool any = false;
+    for (std::uint32_t v : p.vertices) any |= active[v] != 0;
+    if (any) with_active.push_back(p);
+  }
+  ASSERT_FALSE(with_active.empty());
+  options.active_vertices = &active;
+  EXPECT_EQ(fracref::find_step_collisions(s.x0, s.x1, s.triangles, options), with_active);
+  std::vector<std::uint8_t> short_flags(3, 1);
+  options.active_vertices = &short_flags;
+  EXPECT_THROW(fracref::find_step_collisions(s.x0, s.x1, s.triangles, options), fracref::InputError);
+}
+
+// Against a static mesh, resting moving-mesh elements and those without an active vertex are
+// left out, the rest found as without the options.
+TEST(GeomCcd, StaticPairsFollowTheActiveVertices) {
+  const auto box = fracref::make_box({0, 0, 0}, {1, 1, 1}, 3);
+  const auto s = sheet(1.05, -0.25, 7);
+  std::vector<dvec3> x1 = s.positions;
+  for (std::size_t v = 0; v < x1.size(); ++v)
+    if (v % 2 == 0) x1[v].z -= 0.5;  // half the vertices dive into the box
+  const auto all = fracref::find_step_collisions_with_static(s.positions, x1, s.triangles, box.positions, box.triangles);
+  ASSERT_FALSE(all.empty());
+  std::vector<std::uint8_t> active(x1.size(), 0);
+  for (std::size_t v = 0; v < x1.size(); v += 3) active[v] = 1;
+  auto moving_side = [](const CcdPair& p) {
+    if (p.kind == CcdKind::vertex_triangle) return std::vector<std::uint32_t>{p.vertices[0]};
+    if (p.kind == CcdKind::triangle_vertex) return std::vector<std::uint32_t>{p.vertices[1], p.vertices[2], p.vertices[3]};
+    return std::vector<std::uint32_t>{p.vertices[0], p.vertices[1]};
+  };
+  std::vector<CcdPair> moving, with_active;
+  for (const CcdPair& p : all) {
+    bool moves = false, any = false;
+    for (std::uint32_t v : moving_side(p)) moves |= s.positions[v] != x1[v], any |= active[v] != 0;
+    if (moves) moving.push_back(p);
+    if (any) with_active.push_back(p);
+  }
+  fracref::StepCcdOptions options;
+  options.skip_resting_pairs = true;
+  EXPECT_EQ(fracref::find_step_collisions_with_static(s.positions, x1, s.triangles, box.positions, box.triangles, options),
+            moving);
+  options.active_vertices = &active;
+  EXPECT_EQ(fracref::find_step_collisions_with_static(s.positions, x1, s.triangles, box.positions, box.triangles, options),
+            with_active);
 }
 
 TEST(GeomCcd, SheetsMovingApartOrRigidlyAreNotCaught) {

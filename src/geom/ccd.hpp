@@ -88,11 +88,16 @@ struct StepCcdOptions {
   /// boundary of the fracture surface, projected onto the exterior), which would otherwise
   /// always be in contact.
   const std::vector<std::uint8_t>* ignored_vertices = nullptr;
-  /// find_step_collisions only: when true, pairs whose four vertices all keep their position
-  /// (x0 == x1) are not tested. Such a pair can only be reported when it is within the
-  /// tolerance already at x0, and no choice of which vertices move changes that; skipping them
-  /// makes a step in which few vertices move cost in proportion to those.
+  /// When true, pairs none of whose (moving-mesh) vertices changes position (x0 == x1) are not
+  /// tested. Such a pair can only be reported when it is within the tolerance already at x0,
+  /// and no choice of which vertices move changes that; skipping them makes a step in which few
+  /// vertices move cost in proportion to those.
   bool skip_resting_pairs = false;
+  /// When set (size = vertex count), only pairs with at least one (moving-mesh) vertex flagged
+  /// non-zero here are tested; it then replaces skip_resting_pairs' rule. For repeated calls on
+  /// one step where only the flagged vertices changed their end position since the last call:
+  /// every other pair's answer is unchanged.
+  const std::vector<std::uint8_t>* active_vertices = nullptr;
   /// find_step_collisions only: the mesh's unique edges (a < b), when the caller has them;
   /// null = derived from the triangles. \pre exactly the edges of `triangles`.
   const std::vector<std::array<std::uint32_t, 2>>* edges = nullptr;

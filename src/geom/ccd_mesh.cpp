@@ -95,15 +95,28 @@ struct Motion {
   std::vector<std::uint32_t> moving_edges, resting_edges;
 };
 
+// Whether vertex v takes part in the pairs to test (StepCcdOptions::active_vertices and
+// skip_resting_pairs).
+bool is_active(const std::vector<dvec3>& x0, const std::vector<dvec3>& x1, const StepCcdOptions& o, std::size_t v) {
+  if (o.active_vertices) return (*o.active_vertices)[v] != 0;
+  return !o.skip_resting_pairs || x0[v] != x1[v];
+}
+
+void check_flags(const std::vector<std::uint8_t>* flags, std::size_t n, const char* what) {
+  if (flags && flags->size() != n)
+    throw InputError("step collisions: " + std::to_string(flags->size()) + " " + what + " flags for " +
+                     std::to_string(n) + " vertices");
+}
+
 Motion classify_motion(const std::vector<dvec3>& x0, const std::vector<dvec3>& x1, const Tris& tris,
-                       const std::vector<Edge>& edges, bool skip_resting) {
-  std::vector<std::uint8_t> state(x0.size(), 0);  // bit 0: used, bit 1: moves
+                       const std::vector<Edge>& edges, const StepCcdOptions& options) {
+  std::vector<std::uint8_t> state(x0.size(), 0);  // bit 0: used, bit 1: active
   for (const auto& t : tris)
     for (std::uint32_t v : t) state[v] = 1;
   Motion m;
   for (std::size_t v = 0; v < x0.size(); ++v) {
     if (!state[v]) continue;
-    if (!skip_resting || x0[v] != x1[v]) state[v] |= 2;
+    if (is_active(x0, x1, options, v)) state[v] |= 2;
     ((state[v] & 2) ? m.moving_vertices : m.resting_vertices).push_back(std::uint32_t(v));
   }
   auto moves = [&](std::uint32_t v) { return (state[v] & 2) != 0; };
@@ -204,7 +217,8 @@ std::vector<CcdPair> find_step_collisions(const std::vector<dvec3>& x0, const st
   check_triangles(triangles, x0.size(), "mesh");
   const std::vector<Edge> own_edges = options.edges ? std::vector<Edge>() : unique_edges(triangles);
   const std::vector<Edge>& edges = options.edges ? *options.edges : own_edges;
-  const Motion motion = classify_motion(x0, x1, triangles, edges, options.skip_resting_pairs);
+  check_flags(options.active_vertices, x0.size(), "active-vertex");
+  const Motion motion = classify_motion(x0, x1, triangles, edges, options);
   StepTrees trees{x0, x1, std::max(0.0, options.ccd.min_distance), options.threads};
   std::vector<CcdPair> out = vertex_triangle_pairs(trees, triangles, motion, options.ccd);
   std::vector<CcdPair> ee = edge_edge_pairs(trees, edges, motion, options.ccd);
@@ -254,43 +268,59 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
   tree_options.threads = options.threads;
   const auto& s = m.positions;
   const Tris& static_triangles = m.triangles;
-  const std::vector<std::uint8_t>* ignored = options.ignored_vertices;
-  if (ignored && ignored->size() != x0.size())
-    throw InputError("step collisions: " + std::to_string(ignored->size()) + " ignored-vertex flags for " +
-                     std::to_string(x0.size()) + " vertices");
-  auto skip = [ignored](std::uint32_t v) { return ignored && (*ignored)[v] != 0; };
+  check_flags(options.ignored_vertices, x0.size(), "ignored-vertex");
+  check_flags(options.active_vertices, x0.size(), "active-vertex");
+  // Elements with an ignored vertex, or without an active one, take part in no pair.
+  std::vector<std::uint8_t> take(x0.size(), 0);  // 0: no, 1: yes if not ignored, 2: ignored
+  for (std::size_t v = 0; v < x0.size(); ++v)
+    take[v] = (options.ignored_vertices && (*options.ignored_vertices)[v]) ? 2 : (is_active(x0, x1, options, v) ? 1 : 0);
+  auto keep = [&](auto ids) {
+    bool any = false;
+    for (std::uint32_t v : ids) {
+      if (take[v] == 2) return false;
+      any = any || take[v] == 1;
+    }
+    return any;
+  };
+  std::vector<std::array<std::uint32_t, 1>> moving_vertices;
+  for (const auto& v : used_vertices(triangles, x0.size()))
+    if (keep(v)) moving_vertices.push_back(v);
+  std::vector<std::uint32_t> moving_triangles;
+  for (std::uint32_t t = 0; t < triangles.size(); ++t)
+    if (keep(triangles[t])) moving_triangles.push_back(t);
+  std::vector<Edge> edges;
+  for (const Edge& e : unique_edges(triangles))
+    if (keep(e)) edges.push_back(e);
   // Moving vertices against static triangles.
-  const auto moving_vertices = used_vertices(triangles, x0.size());
   const Bvh moving_vertex_tree = build_bvh(swept_boxes(x0, x1, moving_vertices, 0.0), tree_options);
   auto out = collect_overlaps<CcdPair>(
       moving_vertex_tree, m.triangle_tree, false, options.threads,
       [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
         const std::uint32_t v = moving_vertices[k][0];
         const auto& tri = static_triangles[t];
-        if (skip(v)) return;
         if (ccd_vertex_triangle(x0[v], s[tri[0]], s[tri[1]], s[tri[2]], x1[v], s[tri[0]], s[tri[1]], s[tri[2]], ccd))
           found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
       });
   // Static vertices against moving triangles.
-  const Bvh moving_tri_tree = build_bvh(swept_boxes(x0, x1, triangles, 0.0), tree_options);
+  std::vector<Aabb> tri_boxes(moving_triangles.size());
+  for (std::size_t k = 0; k < moving_triangles.size(); ++k)
+    tri_boxes[k] = swept_box(x0, x1, triangles[moving_triangles[k]], 0.0);
+  const Bvh moving_tri_tree = build_bvh(tri_boxes, tree_options);
   auto tv = collect_overlaps<CcdPair>(
       m.vertex_tree, moving_tri_tree, false, options.threads,
-      [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
-        const std::uint32_t v = m.vertices[k][0];
+      [&](std::uint32_t k, std::uint32_t i, std::vector<CcdPair>& found) {
+        const std::uint32_t v = m.vertices[k][0], t = moving_triangles[i];
         const auto& tri = triangles[t];
-        if (skip(tri[0]) || skip(tri[1]) || skip(tri[2])) return;
         if (ccd_vertex_triangle(s[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], s[v], x1[tri[0]], x1[tri[1]], x1[tri[2]], ccd))
           found.push_back(vertex_pair(CcdKind::triangle_vertex, v, tri, t));
       });
   // Moving edges against static edges.
-  const auto edges = unique_edges(triangles);
   const Bvh moving_edge_tree = build_bvh(swept_boxes(x0, x1, edges, 0.0), tree_options);
   auto ee = collect_overlaps<CcdPair>(
       moving_edge_tree, m.edge_tree, false, options.threads,
       [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
         const Edge& e = edges[i];
         const Edge& f = m.edges[j];
-        if (skip(e[0]) || skip(e[1])) return;
         if (ccd_edge_edge(x0[e[0]], x0[e[1]], s[f[0]], s[f[1]], x1[e[0]], x1[e[1]], s[f[0]], s[f[1]], ccd))
           found.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});
       });

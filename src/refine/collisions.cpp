@@ -97,8 +97,11 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
   opts.skip_resting_pairs = true;  // resting pairs cannot change by freezing (see the loop's end)
   const std::vector<glm::dvec3> p0 = to_double(x0);
   // Each round resets every vertex of every colliding pair; the moving set shrinks strictly, so
-  // the loop ends.
-  for (;;) {
+  // the loop ends. After the first round only pairs with a vertex reset in the round before
+  // can have changed, so only those are tested again.
+  std::vector<std::uint8_t> reset_now(x1.size(), 0);
+  for (int round = 0;; ++round) {
+    opts.active_vertices = round > 0 ? &reset_now : nullptr;
     std::vector<glm::dvec3> p1 = to_double(x1);
     opts.edges = &edges;
     std::vector<CcdPair> pairs = find_step_collisions(p0, p1, tris, opts);
@@ -108,8 +111,9 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
     opts.ignored_vertices = nullptr;
     if (pairs.empty() && with_b.empty()) break;
     const std::size_t before = stopped;
+    std::fill(reset_now.begin(), reset_now.end(), 0);
     auto freeze = [&](std::uint32_t v) {
-      if (x1[v] != x0[v]) x1[v] = x0[v], ++stopped;
+      if (x1[v] != x0[v]) x1[v] = x0[v], reset_now[v] = 1, ++stopped;
     };
     for (const CcdPair& p : pairs)
       for (std::uint32_t v : p.vertices) freeze(v);
