@@ -174,6 +174,36 @@ TEST(RefineLoop, FlipsRemoveSlimTrianglesAndKeepInvariants) {
   EXPECT_EQ(flip_slim_triangles(bent, psi, none, FlipOptions{20.0, 5.0}), 0u);
 }
 
+// A flip moves surface inside its quad; one that would cut through a nearby sheet is skipped.
+TEST(RefineLoop, FlipThatWouldCutAnotherSheetIsSkipped) {
+  // A shallow valley along a-b (a, b at z = 0; c, d at z = 0.02, 0.1 off the edge): slim faces
+  // whose flip to c-d raises the middle of the quad to z = 0.02.
+  std::vector<glm::vec4> p = {{0, 0, 0, 1}, {1, 0, 0, 1}, {0.5f, 0.1f, 0.02f, 1}, {0.5f, -0.1f, 0.02f, 1}};
+  const std::vector<glm::uvec4> quad = {{0, 1, 2, 0}, {1, 0, 3, 0}};
+  std::vector<glm::vec4> psi(7, glm::vec4(1.0f, 0.0f, 0.0f, 0.0f));
+  ExteriorSurface none;
+  FractureSurface alone = make_fracture_surface(p, quad, {{1, 0}, {1, 0}}, 2);
+  EXPECT_EQ(flip_slim_triangles(alone, psi, none, FlipOptions{20.0, 25.0}), 1u);
+  // A small upright triangle over the middle of a-b reaches through the flipped surface only.
+  for (const glm::vec4& x : {glm::vec4(0.5f, -0.005f, 0.005f, 1), glm::vec4(0.5f, 0.005f, 0.005f, 1), glm::vec4(0.5f, 0, 0.03f, 1)})
+    p.push_back(x);
+  std::vector<glm::uvec4> faces = quad;
+  faces.push_back({4, 5, 6, 0});
+  FractureSurface s = make_fracture_surface(p, faces, {{1, 0}, {1, 0}, {1, 0}}, 2);
+  auto intersections = [](const FractureSurface& m) {
+    std::vector<glm::dvec3> x;
+    for (const glm::vec4& q : m.positions) x.emplace_back(glm::vec3(q));
+    std::vector<TriangleIds> t;
+    for (const glm::uvec4& f : m.faces) t.push_back({f.x, f.y, f.z});
+    return find_self_intersections(x, t, 10).size();
+  };
+  ASSERT_EQ(intersections(s), 0u);
+  EXPECT_EQ(flip_slim_triangles(s, psi, none, FlipOptions{20.0, 25.0}), 0u);
+  EXPECT_EQ(validate(s), "");
+  EXPECT_EQ(intersections(s), 0u);
+  EXPECT_NE(find_edge(s, 0, 1), kNoEdge);
+}
+
 TEST(RefineLoop, ThreePieceJunctionStaysValidAndIntersectionFree) {
   // The T-junction example: z = 0 over x in [-1, 1], y in [0, 3], and x = 0 for z in [0, 1];
   // its boundary lies on the box [-1, 1] x [0, 3] x [-1, 1].

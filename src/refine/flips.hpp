@@ -20,7 +20,8 @@ struct FlipOptions {
 /// below min_angle, the flip raises the smaller of the two faces' minimum angles, the faces are
 /// within max_dihedral of coplanar (so the shape barely changes), both new faces keep the old
 /// orientation, none of the quad's four outer edges is a junction (non-manifold) edge, and the
-/// energy Σ A ψ̄ (ψ per vertex from `samples`) does not rise. Faces touched
+/// energy Σ A ψ̄ (ψ per vertex from `samples`) does not rise, and neither new face meets another
+/// face of S (exact test: S stays free of self-intersections). Faces touched
 /// by one flip are not flipped again in the same pass. Rebuilds the adjacency when anything flipped.
 /// \return the number of flips.
 std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> samples, const ExteriorSurface& exterior,
