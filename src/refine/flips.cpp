@@ -5,8 +5,7 @@
 #include <optional>
 #include <set>
 
-#include "geom/bvh.hpp"
-#include "geom/intersect.hpp"
+#include "refine/face_guard.hpp"
 
 #include "refine/topology_edit.hpp"
 
@@ -66,49 +65,6 @@ bool touches_junction(const FractureSurface& s, glm::uvec2 ab, glm::uvec2 cd) {
   return false;
 }
 
-// A flip replaces two faces by two others inside the same quad; when the quad is not flat that
-// moves surface, which can cut through a nearby sheet of S. The new faces are tested exactly
-// against every face whose box meets theirs (faces flipped earlier in the pass with their new
-// corners: a flipped face's partner is tested too, since the pair's new faces may have swapped
-// the space their old boxes covered).
-class FlipGuard {
- public:
-  explicit FlipGuard(const FractureSurface& s) : s_(s), partner_(s.faces.size(), kNone) {
-    for (const glm::vec4& p : s.positions) x_.emplace_back(glm::vec3(p));
-    std::vector<Aabb> boxes(s.faces.size());
-    for (std::size_t f = 0; f < s.faces.size(); ++f)
-      for (int k = 0; k < 3; ++k) boxes[f].expand(x_[s.faces[f][k]]);
-    bvh_ = build_bvh(boxes);
-  }
-
-  /// Whether faces `n1`, `n2` (replacing faces `f1`, `f2`) meet no other face of S.
-  bool clear(const TriangleIds& n1, const TriangleIds& n2, std::uint32_t f1, std::uint32_t f2) {
-    hits_.clear();
-    Aabb box;
-    for (const TriangleIds* t : {&n1, &n2})
-      for (std::uint32_t v : *t) box.expand(x_[v]);
-    query_box(bvh_, box, hits_);
-    const std::size_t direct = hits_.size();
-    for (std::size_t k = 0; k < direct; ++k)
-      if (partner_[hits_[k]] != kNone) hits_.push_back(partner_[hits_[k]]);
-    for (std::uint32_t g : hits_) {
-      if (g == f1 || g == f2) continue;
-      const glm::uvec4 f = s_.faces[g];
-      const TriangleIds other = {f.x, f.y, f.z};
-      if (mesh_faces_intersect(x_, n1, other) || mesh_faces_intersect(x_, n2, other)) return false;
-    }
-    return true;
-  }
-  void flipped(std::uint32_t f1, std::uint32_t f2) { partner_[f1] = f2, partner_[f2] = f1; }
-
- private:
-  static constexpr std::uint32_t kNone = 0xffffffffu;
-  const FractureSurface& s_;
-  std::vector<glm::dvec3> x_;
-  Bvh bvh_;
-  std::vector<std::uint32_t> partner_, hits_;
-};
-
 }  // namespace
 
 std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> samples, const ExteriorSurface&,
@@ -116,7 +72,7 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
   std::vector<char> used(s.faces.size(), 0);
   std::set<std::pair<std::uint32_t, std::uint32_t>> created;  // edges this pass made (adjacency is stale)
   std::size_t flips = 0;
-  std::optional<FlipGuard> guard;  // built on the first candidate: most passes flip little
+  std::optional<FaceGuard> guard;  // built on the first candidate: most passes flip little
   for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
     glm::uvec2 cd, ff;
     if (s.edge_special[e] != kEdgeRegular) continue;
@@ -128,10 +84,13 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
     Quad q{x(ab.x), x(ab.y), x(cd.x), x(cd.y), samples[ab.x].x, samples[ab.y].x, samples[cd.x].x, samples[cd.y].x};
     auto diagonal = std::minmax(cd.x, cd.y);
     if (created.count(diagonal) || !flip_improves(q, o)) continue;
+    // A flip moves surface inside its quad when the quad is not flat, which can cut through a
+    // nearby sheet of S.
     if (!guard) guard.emplace(s);
-    if (!guard->clear({cd.x, ab.x, cd.y}, {cd.y, ab.y, cd.x}, ff.x, ff.y)) continue;
+    const TriangleIds n1 = {cd.x, ab.x, cd.y}, n2 = {cd.y, ab.y, cd.x};
+    if (!guard->clear({n1, n2}, {ff.x, ff.y})) continue;
     if (!flip_edge(s, e)) continue;
-    guard->flipped(ff.x, ff.y);
+    guard->accept({n1, n2}, {ff.x, ff.y});
     created.insert(diagonal);
     used[ff.x] = used[ff.y] = 1;
     ++flips;

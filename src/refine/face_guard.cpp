@@ -1,0 +1,54 @@
+#include "refine/face_guard.hpp"
+
+#include <algorithm>
+
+namespace fracref {
+
+FaceGuard::FaceGuard(const FractureSurface& s) : s_faces_(s.faces.size()), gone_(s.faces.size(), 0) {
+  x_.reserve(s.positions.size());
+  for (const glm::vec4& p : s.positions) x_.emplace_back(glm::vec3(p));
+  faces_.reserve(s.faces.size());
+  std::vector<Aabb> boxes;
+  boxes.reserve(s.faces.size());
+  for (const glm::uvec4& f : s.faces) {
+    faces_.push_back({f.x, f.y, f.z});
+    boxes.push_back(box_of(faces_.back()));
+  }
+  bvh_ = build_bvh(boxes);
+}
+
+std::uint32_t FaceGuard::add_vertex(const glm::dvec3& p) {
+  x_.push_back(p);
+  return std::uint32_t(x_.size() - 1);
+}
+
+Aabb FaceGuard::box_of(const TriangleIds& t) const {
+  Aabb box;
+  for (std::uint32_t v : t) box.expand(x_[v]);
+  return box;
+}
+
+bool FaceGuard::clear(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced) const {
+  Aabb box;
+  for (const TriangleIds& t : faces) box.expand(box_of(t));
+  std::vector<std::uint32_t> hits;
+  query_box(bvh_, box, hits);
+  for (std::uint32_t k = 0; k < new_boxes_.size(); ++k)
+    if (new_boxes_[k].overlaps(box)) hits.push_back(std::uint32_t(s_faces_ + k));
+  for (std::uint32_t g : hits) {
+    if (g < s_faces_ && (gone_[g] || std::find(replaced.begin(), replaced.end(), g) != replaced.end())) continue;
+    for (const TriangleIds& t : faces)
+      if (mesh_faces_intersect(x_, t, faces_[g])) return false;
+  }
+  return true;
+}
+
+void FaceGuard::accept(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced) {
+  for (std::uint32_t f : replaced) gone_[f] = 1;
+  for (const TriangleIds& t : faces) {
+    faces_.push_back(t);
+    new_boxes_.push_back(box_of(t));
+  }
+}
+
+}  // namespace fracref
