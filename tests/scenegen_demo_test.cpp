@@ -271,6 +271,7 @@ TEST(ScenegenDemo, Wall) {
   const LoadedDemo d = check_demo("wall", {}, folder.path());
   EXPECT_EQ(d.scene.field.type, FieldType::brick);
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(150, 50, 10));
+  EXPECT_EQ(d.scene.refine.tau, RefineSpec{}.tau);  // the defaults
   ASSERT_EQ(d.scene.animation.kind, AnimationKind::rigid);
   ASSERT_EQ(d.animation.piece_transforms.size(), 48u);
   // Some pieces are knocked away, some stay where they were.
@@ -289,6 +290,9 @@ TEST(ScenegenDemo, Clay) {
   const LoadedDemo d = check_demo("clay", {}, folder.path());
   EXPECT_EQ(d.scene.field.type, FieldType::fbm);
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(32, 64, 64));
+  // Finer split thresholds than the defaults: the paper's 40K triangles are within reach.
+  EXPECT_EQ(d.scene.refine.tau, 0.001);
+  EXPECT_EQ(d.scene.refine.delta, 0.002);
   check_backward_remeshing(d);
   // Large twisting before anything tears (late: from frame 30).
   EXPECT_GT(largest_motion(d, 29), 0.5);
