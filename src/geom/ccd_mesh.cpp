@@ -30,16 +30,30 @@ void check_triangles(const Tris& tris, std::size_t n, const char* what) {
                          " out of range (" + std::to_string(n) + " vertices)");
 }
 
+// Sorted unique edges (a < b) by a counting sort on a, then a sort of each (short) bucket: linear
+// in the triangle count, where one sort of all 3t half-edges dominated the static CCD's cost.
 std::vector<Edge> unique_edges(const Tris& tris) {
-  std::vector<Edge> edges;
-  edges.reserve(tris.size() * 3);
+  std::uint32_t n = 0;
+  for (const auto& t : tris) n = std::max({n, t[0] + 1, t[1] + 1, t[2] + 1});
+  std::vector<std::uint32_t> start(std::size_t(n) + 1, 0);
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k)
+      if (t[k] != t[(k + 1) % 3]) ++start[std::min(t[k], t[(k + 1) % 3]) + 1];
+  for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1), other(start[n]);
   for (const auto& t : tris)
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t a = t[k], b = t[(k + 1) % 3];
-      if (a != b) edges.push_back({std::min(a, b), std::max(a, b)});
+      if (a != b) other[fill[std::min(a, b)]++] = std::max(a, b);
     }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<Edge> edges;
+  edges.reserve(other.size() / 2 + 1);
+  for (std::uint32_t a = 0; a < n; ++a) {
+    const auto first = other.begin() + start[a], last = other.begin() + start[a + 1];
+    std::sort(first, last);
+    for (auto it = first; it != last; ++it)
+      if (it == first || *it != *(it - 1)) edges.push_back({a, *it});
+  }
   return edges;
 }
 
@@ -154,6 +168,32 @@ struct StepTrees {
   }
 };
 
+// When few elements take part (a later round, or a step that moves a few new vertices), a tree
+// over all the others would cost more than the tests: instead each of the many boxes is
+// queried against a tree over the few. Calls test(k, j, out) for every overlapping pair of
+// few[k] and many_box(j), j < many.
+template <class ManyBox, class Test>
+std::vector<CcdPair> scan_against(const std::vector<Aabb>& few, std::size_t many, ManyBox many_box, int threads,
+                                  Test test) {
+  if (few.empty() || many == 0) return {};
+  const Bvh tree = build_bvh(few);
+  const std::size_t chunks = geom_detail::chunk_count(many);
+  std::vector<std::vector<CcdPair>> parts(chunks);
+  geom_detail::parallel_chunks(many, chunks, threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    std::vector<std::uint32_t> hits;
+    for (std::size_t j = begin; j < end; ++j) {
+      hits.clear();
+      query_box(tree, many_box(j), hits);
+      for (std::uint32_t k : hits) test(k, std::uint32_t(j), parts[c]);
+    }
+  });
+  std::vector<CcdPair> out;
+  for (auto& part : parts) out.insert(out.end(), part.begin(), part.end());
+  return out;
+}
+
+constexpr std::size_t kSparseFactor = 16;  // "few": under 1/16 of the elements take part
+
 std::vector<CcdPair> vertex_triangle_pairs(const StepTrees& trees, const Tris& tris, const Motion& m,
                                            const CcdOptions& ccd) {
   const auto& x0 = trees.x0;
@@ -164,6 +204,25 @@ std::vector<CcdPair> vertex_triangle_pairs(const StepTrees& trees, const Tris& t
     if (ccd_vertex_triangle(x0[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], x1[v], x1[tri[0]], x1[tri[1]], x1[tri[2]], ccd))
       found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
   };
+  const std::size_t used = m.moving_vertices.size() + m.resting_vertices.size();
+  if (m.moving_vertices.size() * kSparseFactor < used) {
+    std::vector<Aabb> few(m.moving_vertices.size());
+    for (std::size_t k = 0; k < few.size(); ++k) few[k] = swept_box(x0, x1, std::array<std::uint32_t, 1>{m.moving_vertices[k]}, 0.0);
+    auto out = scan_against(few, tris.size(), [&](std::size_t t) { return swept_box(x0, x1, tris[t], trees.grow); },
+                            trees.threads, [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
+                              test(m.moving_vertices[k], t, found);
+                            });
+    std::vector<Aabb> few_tris(m.moving_triangles.size());
+    for (std::size_t k = 0; k < few_tris.size(); ++k) few_tris[k] = swept_box(x0, x1, tris[m.moving_triangles[k]], trees.grow);
+    auto rest = scan_against(
+        few_tris, m.resting_vertices.size(),
+        [&](std::size_t j) { return swept_box(x0, x1, std::array<std::uint32_t, 1>{m.resting_vertices[j]}, 0.0); },
+        trees.threads, [&](std::uint32_t k, std::uint32_t j, std::vector<CcdPair>& found) {
+          test(m.resting_vertices[j], m.moving_triangles[k], found);
+        });
+    out.insert(out.end(), rest.begin(), rest.end());
+    return out;
+  }
   const Bvh tri_tree = trees.build(tris, nullptr, trees.grow);
   auto out = collect_overlaps<CcdPair>(trees.vertices(m.moving_vertices), tri_tree, false, trees.threads,
                                        [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
@@ -191,6 +250,21 @@ std::vector<CcdPair> edge_edge_pairs(const StepTrees& trees, const std::vector<E
     if (ccd_edge_edge(x0[e[0]], x0[e[1]], x0[f[0]], x0[f[1]], x1[e[0]], x1[e[1]], x1[f[0]], x1[f[1]], ccd))
       found.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});
   };
+  if (m.moving_edges.size() * kSparseFactor < edges.size()) {
+    std::vector<char> moves(edges.size(), 0);
+    std::vector<Aabb> few(m.moving_edges.size());
+    for (std::size_t k = 0; k < few.size(); ++k) {
+      moves[m.moving_edges[k]] = 1;
+      few[k] = swept_box(x0, x1, edges[m.moving_edges[k]], 0.5 * trees.grow);
+    }
+    // A pair of two moving edges is met from both sides: kept once, from its smaller id.
+    return scan_against(few, edges.size(), [&](std::size_t j) { return swept_box(x0, x1, edges[j], 0.5 * trees.grow); },
+                        trees.threads, [&](std::uint32_t k, std::uint32_t j, std::vector<CcdPair>& found) {
+                          const std::uint32_t i = m.moving_edges[k];
+                          if (i == j || (moves[j] && j < i)) return;
+                          test(i, j, found);
+                        });
+  }
   const Bvh moving = trees.build(edges, &m.moving_edges, 0.5 * trees.grow);
   auto out = collect_overlaps<CcdPair>(moving, moving, true, trees.threads,
                                        [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
