@@ -210,7 +210,7 @@ std::string scene_footer(const std::vector<SceneBenchResult>& scenes, int repeat
                     "stage did not run; final energy: after the last refine iteration.\n";
   if (compared)
     out += "vs cpu: setup+refine = median over paired runs of (setup + refine + backend start-up) / the same on "
-           "cpu (start-up, measured once: " + startup_text(scenes) + "); total = median total / cpu median total; "
+           "cpu (start-up, median of 5 creations: " + startup_text(scenes) + "); total = median total / cpu median total; "
            "refined triangles = backend - cpu (relative to cpu); final energy = (backend - cpu) / |cpu|.\n";
   if (stop_after != Stage::animate) out += std::string("Stopped after ") + to_string(stop_after) + ".\n";
   out += "Paper: one core of an i7-2600 (2014), refinement only (its pyramid initialisation took 10-30 s more); "

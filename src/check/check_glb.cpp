@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "scene/json_strict.hpp"
+
 #include "check/check_internal.hpp"
 
 namespace fracref::check_detail {
@@ -64,24 +66,15 @@ GlbParts split_glb(const std::string& bytes) {
   return parts;
 }
 
-// nlohmann's parser, made strict about repeated keys (which it would silently merge).
+// The project's strict JSON reader (a repeated key, which nlohmann alone would silently merge,
+// is an error too).
 Json parse_json(const std::string& text) {
-  std::vector<std::set<std::string>> keys;
-  std::string duplicate;
-  auto strict = [&](int, Json::parse_event_t event, Json& value) {
-    if (event == Json::parse_event_t::object_start) keys.emplace_back();
-    if (event == Json::parse_event_t::object_end) keys.pop_back();
-    if (event == Json::parse_event_t::key && !keys.back().insert(value.get<std::string>()).second && duplicate.empty())
-      duplicate = value.get<std::string>();
-    return true;
-  };
   Json j;
   try {
-    j = Json::parse(text, strict);
-  } catch (const Json::parse_error& e) {
-    throw Problem("JSON chunk: byte " + std::to_string(e.byte) + ": malformed JSON");
+    j = parse_json_strict(text, "JSON chunk");
+  } catch (const InputError& e) {
+    throw Problem(e.what());
   }
-  if (!duplicate.empty()) throw Problem("JSON chunk: key '" + duplicate + "' repeated in one object");
   if (!j.is_object()) throw Problem("JSON chunk: not a JSON object");
   return j;
 }
