@@ -95,12 +95,45 @@ bool is_flap(const FractureSurface& s, const ExteriorMesh& m, std::uint32_t f, d
   return distance <= 0.01 * longest + tolerance;
 }
 
+// All of `faces` (ascending) removed at once; false, changing nothing, when S would be invalid.
+bool remove_faces(FractureSurface& s, std::vector<std::uint32_t>& origin, const std::vector<std::uint32_t>& faces) {
+  std::vector<glm::uvec4> kept;
+  std::vector<glm::ivec2> pieces;
+  std::vector<std::uint32_t> new_origin;
+  std::size_t next = 0;
+  for (std::uint32_t f = 0; f < s.faces.size(); ++f) {
+    if (next < faces.size() && faces[next] == f) {
+      ++next;
+      continue;
+    }
+    kept.push_back(s.faces[f]);
+    pieces.push_back(s.face_pieces[f]);
+    new_origin.push_back(origin[f]);
+  }
+  return try_faces(s, std::move(kept), std::move(pieces), origin, std::move(new_origin));
+}
+
+// Every rebuild and validation of S costs a pass over all of it, so the flaps found in one scan
+// are removed together; only when that would leave S invalid are they removed one at a time
+// (the first removable one, then a new scan), as removing one can make its neighbour a flap.
 void remove_flaps(FractureSurface& s, std::vector<std::uint32_t>& origin, const ExteriorMesh& m, double tolerance,
                   std::uint32_t& count) {
-  for (bool changed = true; changed;) {
-    changed = false;
-    for (std::uint32_t f = 0; f < s.faces.size() && !changed; ++f)
-      if (is_flap(s, m, f, tolerance) && remove_face(s, origin, f)) changed = true, ++count;
+  for (;;) {
+    std::vector<std::uint32_t> flaps;
+    for (std::uint32_t f = 0; f < s.faces.size(); ++f)
+      if (is_flap(s, m, f, tolerance)) flaps.push_back(f);
+    if (flaps.empty()) return;
+    if (flaps.size() > 1 && remove_faces(s, origin, flaps)) {
+      count += std::uint32_t(flaps.size());
+      continue;
+    }
+    bool removed = false;
+    for (std::uint32_t f : flaps)
+      if (remove_face(s, origin, f)) {
+        removed = true, ++count;
+        break;
+      }
+    if (!removed) return;
   }
 }
 
