@@ -73,14 +73,20 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
   std::set<std::pair<std::uint32_t, std::uint32_t>> created;  // edges this pass made (adjacency is stale)
   std::size_t flips = 0;
   std::optional<FaceGuard> guard;  // built on the first candidate: most passes flip little
+  auto x = [&](std::uint32_t v) { return glm::dvec3(glm::vec3(s.positions[v])); };
+  // Only edges of a slim face are candidates: judged once per face (positions do not change in
+  // the pass; a flipped face is `used`), before the costlier tests of each edge.
+  std::vector<char> slim(s.faces.size(), 0);
+  for (std::size_t f = 0; f < s.faces.size(); ++f)
+    slim[f] = min_angle_degrees(x(s.faces[f].x), x(s.faces[f].y), x(s.faces[f].z)) < o.min_angle;
   for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
     glm::uvec2 cd, ff;
     if (s.edge_special[e] != kEdgeRegular) continue;
-    if (used[s.ef_faces[s.ef_offsets[e]]] || used[s.ef_faces[s.ef_offsets[e] + 1]]) continue;
+    const std::uint32_t f1 = s.ef_faces[s.ef_offsets[e]], f2 = s.ef_faces[s.ef_offsets[e] + 1];
+    if (used[f1] || used[f2] || !(slim[f1] || slim[f2])) continue;
     if (!flip_candidates(s, e, cd, ff)) continue;
     glm::uvec2 ab = s.edges[e];
     if (touches_junction(s, ab, cd)) continue;
-    auto x = [&](std::uint32_t v) { return glm::dvec3(glm::vec3(s.positions[v])); };
     Quad q{x(ab.x), x(ab.y), x(cd.x), x(cd.y), samples[ab.x].x, samples[ab.y].x, samples[cd.x].x, samples[cd.y].x};
     auto diagonal = std::minmax(cd.x, cd.y);
     if (created.count(diagonal) || !flip_improves(q, o)) continue;
