@@ -140,9 +140,10 @@ float Refiner::choose_dt(const std::vector<float>& shortest) const {
   return *mid;
 }
 
+// \pre samples_ and velocity_ are those of the current positions (run() evaluates after every
+// edit; each evaluation is a kernel call, with a fixed cost on Vulkan).
 IterationStats Refiner::flow_step() {
   IterationStats st;
-  evaluate();
   const double e0 = energy();
   const std::vector<float> shortest = shortest_edges();
   const std::vector<glm::vec3> boundary_tangent = boundary_tangents();
@@ -179,8 +180,7 @@ IterationStats Refiner::flow_step() {
       return st;
     }
   }
-  s_.positions = x0;  // no step lowered the energy: stay
-  evaluate();
+  s_.positions = x0;  // no step lowered the energy: stay (samples_ and velocity_ are x0's still)
   return st;
 }
 
@@ -372,7 +372,7 @@ RefineResult Refiner::run(const RefineProgress& progress) {
     st.splits = refine_step(std::uint32_t(it));
     evaluate();
     st.flips = flip_slim_triangles(s_, samples_, b_, FlipOptions{o_.min_angle});
-    evaluate();
+    if (st.flips > 0) evaluate();
     st.energy = energy();
     st.triangles = s_.faces.size();
     result.iterations.push_back(st);
