@@ -191,7 +191,10 @@ TEST(BatchBench, SceneSeriesFromTheJobsOwnReports) {
 
   const nlohmann::ordered_json j = bench_json(r, {}, backends, 2, Stage::refine, {});
   EXPECT_EQ(j["stop_after"], "refine");
-  EXPECT_EQ(j["results"][0]["median_seconds"].size(), 3u);
+  EXPECT_EQ(j["results"][0]["median_seconds"].size(), 4u);  // setup, refine, kernels, total
+  EXPECT_EQ(r[0].kernels.size(), 2u);
+  EXPECT_LE(j["results"][0]["median_seconds"]["kernels"].get<double>(),
+            j["results"][0]["median_seconds"]["setup"].get<double>() + j["results"][0]["median_seconds"]["refine"].get<double>());
   EXPECT_EQ(j["results"][0]["samples_seconds"]["refine"].size(), 2u);
   EXPECT_TRUE(j["results"][0]["paper_seconds"].is_null());
   EXPECT_EQ(j["results"][2]["paper_seconds"], 13.6);

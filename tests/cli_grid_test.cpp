@@ -65,6 +65,16 @@ TEST(CliGrid, BinaryGridIsTheStrengthTheReportMeasures) {
   EXPECT_NEAR(report["mean_strength"]["coarse"].get<double>(), 0.25, 1e-6) << report.dump(2);
   EXPECT_NEAR(report["mean_strength"]["refined"].get<double>(), 0.25, 1e-6) << report.dump(2);
   EXPECT_TRUE(fs::exists(s.t.path / "out" / "fracture_surface.ply"));
+  // The kernels' share: one pyramid, one sample test per iteration, at least one K1+K2 each.
+  const std::size_t iterations = report["iterations"].size();
+  EXPECT_EQ(report["kernel_calls"]["pyramid"], 1) << report.dump(2);
+  EXPECT_EQ(report["kernel_calls"]["k3"], iterations) << report.dump(2);
+  EXPECT_GE(report["kernel_calls"]["k1k2"].get<std::size_t>(), iterations) << report.dump(2);
+  const double kernels = report["seconds"]["kernels"].get<double>();
+  EXPECT_GE(kernels, 0.0);
+  EXPECT_LE(kernels, report["seconds"]["setup"].get<double>() + report["seconds"]["refine"].get<double>());
+  EXPECT_NEAR(kernels, report["kernel_seconds"]["pyramid"].get<double>() + report["kernel_seconds"]["k1k2"].get<double>() +
+                           report["kernel_seconds"]["k3"].get<double>(), 1e-12);
 }
 
 TEST(CliGrid, TextGridWithAMatchingResolutionRuns) {

@@ -50,6 +50,7 @@ struct SceneBenchResult {
   std::string backend_name;         ///< ComputeBackend::name()
   std::string error;                ///< why the runs stopped (unavailable backend or a failure)
   std::vector<double> setup, refine, pieces, animate, total;  ///< seconds from each run's report
+  std::vector<double> kernels;  ///< seconds.kernels: time in the three kernels (pyramid, K1+K2, K3)
   std::vector<double> final_energy;  ///< each run's energy after its last refine iteration
   std::optional<std::uint64_t> coarse_triangles, refined_triangles;  ///< the last run's
   std::optional<std::uint64_t> iterations;
@@ -65,8 +66,8 @@ struct SceneBenchOptions {
   BenchProgress progress;
 };
 
-/// Appends one run's figures from its report.json to `r`: seconds.setup, .refine, .pieces,
-/// .animate and .total each to its series when present; the final energy (the last entry of
+/// Appends one run's figures from its report.json to `r`: seconds.setup, .refine, .kernels,
+/// .pieces, .animate and .total each to its series when present; the final energy (the last entry of
 /// `iterations`, or `initial_energy` when no iteration ran) when the job refined; and the counts
 /// coarse_triangles, refined_triangles and the number of iterations (replacing the last run's).
 void record_run(const nlohmann::ordered_json& report, SceneBenchResult& r);

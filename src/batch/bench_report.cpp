@@ -60,11 +60,12 @@ std::string format_table(const std::vector<Row>& rows, std::size_t left) {
   return out;
 }
 
-const char* const kStages[] = {"setup", "refine", "pieces", "animate", "total"};
+const char* const kStages[] = {"setup", "refine", "kernels", "pieces", "animate", "total"};
 
 const std::vector<double>* series(const SceneBenchResult& r, const std::string& key) {
   if (key == "setup") return &r.setup;
   if (key == "refine") return &r.refine;
+  if (key == "kernels") return &r.kernels;
   if (key == "pieces") return &r.pieces;
   if (key == "animate") return &r.animate;
   return &r.total;
@@ -238,7 +239,7 @@ ordered_json bench_json(const std::vector<SceneBenchResult>& scenes, const std::
 
 std::string scene_table(const std::vector<SceneBenchResult>& scenes, int repeat, Stage stop_after) {
   if (scenes.empty()) return "";
-  std::vector<Row> rows = {{"scene", "backend", "triangles", "final energy", "setup s", "refine s", "pieces s",
+  std::vector<Row> rows = {{"scene", "backend", "triangles", "final energy", "setup s", "refine s", "kernels s", "pieces s",
                             "animate s", "total s", "paper triangles", "paper s", "refine/paper"}};
   std::vector<std::string> errors;
   for (const SceneBenchResult& r : scenes) {

@@ -68,6 +68,7 @@ void record_run(const ordered_json& report, SceneBenchResult& r) {
   const ordered_json& s = report.contains("seconds") && report["seconds"].is_object() ? report["seconds"] : kNone;
   add_seconds(s, "setup", r.setup);
   add_seconds(s, "refine", r.refine);
+  add_seconds(s, "kernels", r.kernels);
   add_seconds(s, "pieces", r.pieces);
   add_seconds(s, "animate", r.animate);
   add_seconds(s, "total", r.total);

@@ -75,6 +75,12 @@ void JobReport::seconds(const std::string& key, double value) { j_["seconds"][ke
 
 void JobReport::note(const std::string& text) { j_["notes"].push_back(text); }
 
+void JobReport::kernels(const KernelSeconds& k) {
+  j_["seconds"]["kernels"] = k.pyramid + k.k1k2 + k.k3;
+  j_["kernel_seconds"] = {{"pyramid", k.pyramid}, {"k1k2", k.k1k2}, {"k3", k.k3}};
+  j_["kernel_calls"] = {{"pyramid", k.pyramid_calls}, {"k1k2", k.k1k2_calls}, {"k3", k.k3_calls}};
+}
+
 nlohmann::ordered_json JobReport::finish(const std::filesystem::path& out, double total,
                                          const std::function<Image()>& preview) {
   if (scene_.output.preview) write_png(out / "preview.png", preview());

@@ -12,6 +12,7 @@
 #include "coarse/animation.hpp"
 #include "coarse/coarse_model.hpp"
 #include "field/grid.hpp"
+#include "flow/timed_backend.hpp"
 #include "io/mesh_soup.hpp"
 #include "pieces/pieces.hpp"
 #include "preview/raster.hpp"
@@ -32,6 +33,8 @@ class JobReport {
   /// `glb`: bytes, frames_kept, frame_step of animation.glb; a note when frames were dropped.
   void gltf(const GltfSummary& summary);
   void seconds(const std::string& key, double value);
+  /// seconds.kernels (their sum) and kernel_seconds / kernel_calls per kernel.
+  void kernels(const KernelSeconds& k);
   void note(const std::string& text);
   /// Renders the preview (when the scene asks for one), writes report.json, returns the report.
   nlohmann::ordered_json finish(const std::filesystem::path& out, double total_seconds,
