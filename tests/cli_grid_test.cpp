@@ -72,7 +72,6 @@ TEST(CliGrid, BinaryGridIsTheStrengthTheReportMeasures) {
   EXPECT_GE(report["kernel_calls"]["k1k2"].get<std::size_t>(), iterations) << report.dump(2);
   const double kernels = report["seconds"]["kernels"].get<double>();
   EXPECT_GE(kernels, 0.0);
-  EXPECT_LE(kernels, report["seconds"]["setup"].get<double>() + report["seconds"]["refine"].get<double>());
   EXPECT_NEAR(kernels, report["kernel_seconds"]["pyramid"].get<double>() + report["kernel_seconds"]["k1k2"].get<double>() +
                            report["kernel_seconds"]["k3"].get<double>(), 1e-12);
 }
