@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "coarse/coarse_internal.hpp"
+#include "coarse/tet_tables.hpp"
 #include "util/error.hpp"
 
 namespace fracref::coarse_detail {
@@ -68,12 +69,7 @@ std::string point_text(const glm::dvec3& p) {
   return text;
 }
 
-glm::uvec3 sorted_key(glm::uvec3 t) {
-  if (t.x > t.y) std::swap(t.x, t.y);
-  if (t.y > t.z) std::swap(t.y, t.z);
-  if (t.x > t.y) std::swap(t.x, t.y);
-  return t;
-}
+glm::uvec3 sorted_key(glm::uvec3 t) { return sorted3(t); }
 
 bool same_winding(const glm::uvec3& x, const glm::uvec3& y) {
   // Rotate y so it starts at x's first corner, then compare the second.

@@ -9,15 +9,13 @@
 #include "coarse/coarse_model.hpp"
 #include "coarse/tet_readers.hpp"
 #include "coarse/virtual_fracture.hpp"
+#include "coarse/tet_tables.hpp"
 #include "geom/predicates.hpp"
 #include "util/error.hpp"
 
 namespace fracref {
 namespace {
 using namespace coarse_detail;
-
-// Faces of a positively oriented tet (a, b, c, d), wound outward.
-constexpr int kTetFaces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
 
 struct FaceSide {
   std::uint32_t tet = 0;

@@ -3,29 +3,12 @@
 #include <numeric>
 #include <utility>
 
+#include "coarse/tet_tables.hpp"
 #include "scenegen/scenegen_internal.hpp"
 #include "util/error.hpp"
 
 namespace fracref::scenegen_detail {
 namespace {
-
-// Faces of a positively oriented tet (a, b, c, d), wound outward (the coarse loader's order).
-constexpr int kTetFaces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-// The six axis orders of the Kuhn triangulation; odd permutations are listed second.
-constexpr int kKuhn[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
-
-glm::uvec3 sorted3(glm::uvec3 k) {
-  if (k.x > k.y) std::swap(k.x, k.y);
-  if (k.y > k.z) std::swap(k.y, k.z);
-  if (k.x > k.y) std::swap(k.x, k.y);
-  return k;
-}
-
-bool less3(const glm::uvec3& a, const glm::uvec3& b) {
-  if (a.x != b.x) return a.x < b.x;
-  if (a.y != b.y) return a.y < b.y;
-  return a.z < b.z;
-}
 
 }  // namespace
 
