@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Copied from tests/cli_refine_test.cpp: a unit cube of n^3 cells, 6 tets each, labelled 0 below
+// The shared test cube (tests/cube_scene.hpp): a unit cube of n^3 cells, 6 tets each, labelled 0 below
 // z = 0.5 and 1 above (MEDIT), and its exterior.
 using test_scenes::cube_mesh;
 const char* const kCube = test_scenes::kCubeObj;
