@@ -77,6 +77,62 @@ std::vector<std::array<std::uint32_t, 3>> faces_near_exterior(const std::vector<
   return near;
 }
 
+// A face with a corner on B (a rim face) touches B at that corner by construction, so S–B CCD
+// ignores it and nothing would stop it from swinging out through a concave part of B. It is
+// tested instead as a copy whose B corners are pulled kRimShrink of the way to its centroid:
+// virtual vertices, appended after the real ones, each a fixed barycentric combination of the
+// face's corners (so they move linearly with them). Only a strip of that width along the rim
+// goes untested.
+constexpr double kRimShrink = 0.02;
+
+struct RimFaces {
+  std::vector<std::array<std::uint32_t, 3>> triangles;  // virtual ids for the B corners
+  std::vector<std::uint32_t> owner;                     // per virtual vertex: its face in S
+  std::vector<int> corner;                              // per virtual vertex: which corner it replaces
+};
+
+RimFaces rim_faces(const FractureSurface& s) {
+  RimFaces rim;
+  const auto base = static_cast<std::uint32_t>(s.positions.size());
+  for (std::uint32_t f = 0; f < s.faces.size(); ++f) {
+    std::array<std::uint32_t, 3> t = {s.faces[f].x, s.faces[f].y, s.faces[f].z};
+    bool any = false;
+    for (int k = 0; k < 3; ++k) {
+      if (!(s.vertex_flags[t[k]] & kVertexBoundary)) continue;
+      any = true;
+      t[k] = base + std::uint32_t(rim.owner.size());
+      rim.owner.push_back(f);
+      rim.corner.push_back(k);
+    }
+    if (any) rim.triangles.push_back(t);
+  }
+  return rim;
+}
+
+// Rim faces that already cross B or lie outside it at x0 (the coarse surface can bulge out of B
+// near its rim) are left out: holding them back would only keep them outside, while the flow may
+// pull them in. Crossing is tested exactly (a B edge piercing the face is no vertex–triangle or
+// edge–edge contact, so CCD over a zero step would not see it).
+void drop_crossing_rim_faces(RimFaces& rim, const std::vector<glm::dvec3>& p0_rim, const ExteriorSurface& b) {
+  std::size_t kept = 0;
+  for (const auto& tri : rim.triangles) {
+    const glm::dvec3 &x = p0_rim[tri[0]], &y = p0_rim[tri[1]], &z = p0_rim[tri[2]];
+    if (b.meets(x, y, z) || !b.contains((x + y + z) / 3.0)) continue;
+    rim.triangles[kept++] = tri;
+  }
+  rim.triangles.resize(kept);
+}
+
+std::vector<glm::dvec3> with_rim_points(const FractureSurface& s, const RimFaces& rim, std::vector<glm::dvec3> x) {
+  for (std::size_t k = 0; k < rim.owner.size(); ++k) {
+    const glm::uvec4 f = s.faces[rim.owner[k]];
+    const glm::dvec3 centroid = (x[f.x] + x[f.y] + x[f.z]) / 3.0;
+    const glm::dvec3 c = x[f[rim.corner[k]]];
+    x.push_back(c + kRimShrink * (centroid - c));
+  }
+  return x;
+}
+
 }  // namespace
 
 std::size_t apply_collision_constraints(const FractureSurface& s, const ExteriorSurface& b,
@@ -86,8 +142,9 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
   std::size_t stopped = keep_inside(s, b, x0, x1, clearance);
   std::vector<std::array<std::uint32_t, 3>> tris(s.faces.size());
   for (std::size_t f = 0; f < s.faces.size(); ++f) tris[f] = {s.faces[f].x, s.faces[f].y, s.faces[f].z};
-  const std::vector<std::array<std::uint32_t, 3>> near_b = faces_near_exterior(tris, x0, x1, clearance_at_x0);
-  std::vector<std::uint8_t> on_b(x1.size(), 0);
+  std::vector<std::array<std::uint32_t, 3>> near_b = faces_near_exterior(tris, x0, x1, clearance_at_x0);
+  RimFaces rim = rim_faces(s);
+  std::vector<std::uint8_t> on_b(x1.size() + rim.owner.size(), 0);
   for (std::size_t i = 0; i < x1.size(); ++i) on_b[i] = (s.vertex_flags[i] & kVertexBoundary) ? 1 : 0;
   std::vector<std::array<std::uint32_t, 2>> edges(s.edges.size());
   for (std::size_t e = 0; e < s.edges.size(); ++e)
@@ -96,6 +153,9 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
   opts.ccd.tolerance = 1e-7 * b.diagonal();
   opts.skip_resting_pairs = true;  // resting pairs cannot change by freezing (see the loop's end)
   const std::vector<glm::dvec3> p0 = to_double(x0);
+  const std::vector<glm::dvec3> p0_rim = with_rim_points(s, rim, p0);
+  drop_crossing_rim_faces(rim, p0_rim, b);
+  near_b.insert(near_b.end(), rim.triangles.begin(), rim.triangles.end());
   // Each round resets every vertex of every colliding pair; the moving set shrinks strictly, so
   // the loop ends. After the first round only pairs with a vertex reset in the round before
   // can have changed, so only those are tested again.
@@ -106,14 +166,30 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
     opts.edges = &edges;
     std::vector<CcdPair> pairs = find_step_collisions(p0, p1, tris, opts);
     opts.edges = nullptr;
+    // Against B, a virtual rim vertex is active when a corner of its face is.
+    std::vector<std::uint8_t> reset_rim;
+    if (round > 0) {
+      reset_rim = reset_now;
+      for (std::size_t k = 0; k < rim.owner.size(); ++k) {
+        const glm::uvec4 f = s.faces[rim.owner[k]];
+        reset_rim.push_back(reset_now[f.x] | reset_now[f.y] | reset_now[f.z]);
+      }
+      opts.active_vertices = &reset_rim;
+    }
     opts.ignored_vertices = &on_b;
-    std::vector<CcdPair> with_b = find_step_collisions_with_static(p0, p1, near_b, b.ccd, opts);
+    std::vector<CcdPair> with_b =
+        find_step_collisions_with_static(p0_rim, with_rim_points(s, rim, p1), near_b, b.ccd, opts);
     opts.ignored_vertices = nullptr;
     if (pairs.empty() && with_b.empty()) break;
     const std::size_t before = stopped;
     std::fill(reset_now.begin(), reset_now.end(), 0);
     auto freeze = [&](std::uint32_t v) {
-      if (x1[v] != x0[v]) x1[v] = x0[v], reset_now[v] = 1, ++stopped;
+      auto hold = [&](std::uint32_t c) {
+        if (x1[c] != x0[c]) x1[c] = x0[c], reset_now[c] = 1, ++stopped;
+      };
+      if (v < x1.size()) return hold(v);
+      const glm::uvec4 f = s.faces[rim.owner[v - x1.size()]];  // a rim face's virtual vertex: hold the face
+      hold(f.x), hold(f.y), hold(f.z);
     };
     for (const CcdPair& p : pairs)
       for (std::uint32_t v : p.vertices) freeze(v);

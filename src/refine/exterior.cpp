@@ -1,10 +1,30 @@
 #include "refine/exterior.hpp"
 
+#include "geom/intersect.hpp"
 #include "io/mesh_stats.hpp"
 #include "io/openmesh_bridge.hpp"
 #include "util/error.hpp"
 
 namespace fracref {
+
+bool ExteriorSurface::meets(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) const {
+  Aabb box;
+  for (const glm::dvec3& p : {a, b, c}) box.expand(p);
+  std::vector<std::uint32_t> hits;
+  query_box(bvh, box, hits);
+  for (std::uint32_t h : hits) {
+    const auto& q = bvh.triangles[h];
+    if (triangles_intersect({a, b, c}, {bvh.positions[q[0]], bvh.positions[q[1]], bvh.positions[q[2]]})) return true;
+  }
+  return false;
+}
+
+glm::dvec3 ExteriorSurface::normal(std::uint32_t t) const {
+  const auto& q = bvh.triangles[t];
+  const glm::dvec3 n = glm::cross(bvh.positions[q[1]] - bvh.positions[q[0]], bvh.positions[q[2]] - bvh.positions[q[0]]);
+  const double len = glm::length(n);
+  return len > 0.0 ? n / len : glm::dvec3(0.0);
+}
 
 ExteriorSurface make_exterior(const MeshSoup& mesh, const std::string& what) {
   MeshStats st = mesh_stats(mesh);

@@ -20,6 +20,10 @@ struct ExteriorSurface {
   glm::dvec3 closest_point(const glm::dvec3& p) const { return fracref::closest_point(bvh, p).point; }
   double squared_distance(const glm::dvec3& p) const { return fracref::closest_point(bvh, p).squared_distance; }
   bool contains(const glm::dvec3& p) const { return point_in_mesh(bvh, p); }
+  /// Whether the closed triangle (a, b, c) shares a point with B (exact).
+  bool meets(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) const;
+  /// B's outward unit normal at its triangle `t`.
+  glm::dvec3 normal(std::uint32_t t) const;
 };
 
 /// Builds the exterior from a mesh. \throw InputError naming `what` when the mesh is not one

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "refine/collisions.hpp"
+#include "refine/containment.hpp"
 #include "refine/flips.hpp"
 #include "refine/samples.hpp"
 #include "util/error.hpp"
@@ -365,6 +366,7 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   be_.set_field(field_);
   project_boundary_vertices(s_, b_);
   conform_boundary();
+  tuck_inside(s_, tree_, b_, TuckOptions{o_.scale});
   evaluate();
   result.initial_energy = energy();
   for (int it = 0; it < o_.max_iterations; ++it) {

@@ -1,0 +1,147 @@
+#include "refine/containment.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "refine/face_guard.hpp"
+
+namespace fracref {
+namespace {
+
+constexpr double kRimShrink = 0.02;  // as the rim faces of the collision constraints
+
+glm::dvec3 at(const FractureSurface& s, std::uint32_t v) { return glm::dvec3(glm::vec3(s.positions[v])); }
+
+// The sample of face f farthest outside B (a barycentric grid, corners excluded); false if none.
+bool deepest_outside(const FractureSurface& s, std::uint32_t f, const ExteriorSurface& b, int grid, glm::vec3& weights) {
+  const glm::uvec4 face = s.faces[f];
+  double worst = 0.0;
+  for (int i = 0; i <= grid; ++i)
+    for (int j = 0; i + j <= grid; ++j) {
+      const int k = grid - i - j;
+      if (std::max({i, j, k}) == grid) continue;
+      const glm::dvec3 w(double(i) / grid, double(j) / grid, double(k) / grid);
+      const glm::dvec3 x = w.x * at(s, face.x) + w.y * at(s, face.y) + w.z * at(s, face.z);
+      const double d = b.squared_distance(x);
+      if (d > worst && !b.contains(x)) worst = d, weights = glm::vec3(w);
+    }
+  return worst > 0.0;
+}
+
+double shortest_edge(const FractureSurface& s, const glm::uvec4& f) {
+  return std::min({glm::distance(at(s, f.x), at(s, f.y)), glm::distance(at(s, f.y), at(s, f.z)),
+                   glm::distance(at(s, f.z), at(s, f.x))});
+}
+
+// The point of edge e farthest outside B, as t along it (samples off its ends, and off the
+// rim strip at an end on B); false if none is outside.
+bool deepest_outside_on_edge(const FractureSurface& s, std::uint32_t e, const ExteriorSurface& b, int grid, float& t) {
+  const glm::uvec2 ab = s.edges[e];
+  const bool rim_a = s.vertex_flags[ab.x] & kVertexBoundary, rim_b = s.vertex_flags[ab.y] & kVertexBoundary;
+  double worst = 0.0;
+  for (int i = 1; i < 2 * grid; ++i) {
+    const double u = double(i) / (2 * grid);
+    if ((rim_a && u < kRimShrink) || (rim_b && u > 1.0 - kRimShrink)) continue;
+    const glm::dvec3 x = (1.0 - u) * at(s, ab.x) + u * at(s, ab.y);
+    const double d = b.squared_distance(x);
+    if (d > worst && !b.contains(x)) worst = d, t = float(u);
+  }
+  return worst > 0.0;
+}
+
+glm::dvec3 inside_target(const ExteriorSurface& b, const glm::dvec3& x, double margin) {
+  const ClosestPoint cp = closest_point(b.bvh, x);
+  return glm::dvec3(glm::vec3(cp.point - margin * b.normal(cp.triangle)));
+}
+
+// Splits of the interior edges that leave B; returns the number of splits.
+std::size_t tuck_edges(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
+  std::vector<SplitRequest> requests;
+  std::vector<glm::vec3> targets;
+  std::optional<FaceGuard> guard;
+  std::vector<char> touched(s.faces.size(), 0);
+  for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
+    if (s.edge_special[e] == kEdgeBoundary) continue;
+    const std::uint32_t first = s.ef_offsets[e], last = s.ef_offsets[e + 1];
+    bool busy = false;
+    for (std::uint32_t k = first; k < last; ++k) busy = busy || touched[s.ef_faces[k]];
+    float t = 0.0f;
+    if (busy || !deepest_outside_on_edge(s, e, b, o.sample_grid, t)) continue;
+    const glm::uvec2 ab = s.edges[e];
+    const double length = glm::distance(at(s, ab.x), at(s, ab.y));
+    const glm::dvec3 q = inside_target(b, (1.0 - t) * at(s, ab.x) + double(t) * at(s, ab.y),
+                                       std::min(o.margin * o.scale, 0.1 * length));
+    if (!b.contains(q)) continue;
+    if (!guard) guard.emplace(s);
+    const std::uint32_t m = guard->add_vertex(q);
+    bool clear = true;
+    for (std::uint32_t k = first; k < last && clear; ++k) {
+      const glm::uvec4 f = s.faces[s.ef_faces[k]];
+      const std::uint32_t z = f.x + f.y + f.z - ab.x - ab.y;
+      clear = guard->clear({{ab.x, m, z}, {m, ab.y, z}}, {s.ef_faces[k]});
+    }
+    if (!clear) continue;
+    for (std::uint32_t k = first; k < last; ++k) {
+      const glm::uvec4 f = s.faces[s.ef_faces[k]];
+      const std::uint32_t z = f.x + f.y + f.z - ab.x - ab.y;
+      guard->accept({{ab.x, m, z}, {m, ab.y, z}}, {s.ef_faces[k]});
+      touched[s.ef_faces[k]] = 1;
+    }
+    requests.push_back({SplitRequest::kEdge, e, glm::vec3(1.0f - t, t, 0.0f)});
+    targets.push_back(glm::vec3(q));
+  }
+  if (!requests.empty()) apply_splits(s, tree, requests, &targets);
+  return requests.size();
+}
+
+// Splits of the faces whose inside leaves B; returns the number of splits.
+std::size_t tuck_faces(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
+  std::vector<SplitRequest> requests;
+  std::vector<glm::vec3> targets;
+  std::optional<FaceGuard> guard;
+  for (std::uint32_t f = 0; f < s.faces.size(); ++f) {
+    if (!face_meets_exterior(s, f, b)) continue;
+    glm::vec3 w(0.0f);
+    if (!deepest_outside(s, f, b, o.sample_grid, w)) continue;
+    const glm::uvec4 face = s.faces[f];
+    const glm::dvec3 x = double(w.x) * at(s, face.x) + double(w.y) * at(s, face.y) + double(w.z) * at(s, face.z);
+    const glm::dvec3 q = inside_target(b, x, std::min(o.margin * o.scale, 0.2 * shortest_edge(s, face)));
+    if (!b.contains(q)) continue;
+    if (!guard) guard.emplace(s);
+    const std::uint32_t m = guard->add_vertex(q);
+    const TriangleIds n1 = {face.x, face.y, m}, n2 = {face.y, face.z, m}, n3 = {face.z, face.x, m};
+    if (!guard->clear({n1, n2, n3}, {f})) continue;
+    guard->accept({n1, n2, n3}, {f});
+    requests.push_back({SplitRequest::kFace, f, w});
+    targets.push_back(glm::vec3(q));
+  }
+  if (!requests.empty()) apply_splits(s, tree, requests, &targets);
+  return requests.size();
+}
+
+}  // namespace
+
+bool face_meets_exterior(const FractureSurface& s, std::uint32_t f, const ExteriorSurface& b) {
+  const glm::uvec4 face = s.faces[f];
+  const glm::dvec3 c = (at(s, face.x) + at(s, face.y) + at(s, face.z)) / 3.0;
+  glm::dvec3 x[3];
+  for (int k = 0; k < 3; ++k) {
+    x[k] = at(s, face[k]);
+    if (s.vertex_flags[face[k]] & kVertexBoundary) x[k] += kRimShrink * (c - x[k]);
+  }
+  return b.meets(x[0], x[1], x[2]) || !b.contains(c);
+}
+
+std::size_t tuck_inside(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
+  std::size_t total = 0;
+  for (int pass = 0; pass < o.passes; ++pass) {
+    std::size_t made = tuck_edges(s, tree, b, o);
+    if (made == 0) made = tuck_faces(s, tree, b, o);
+    if (made == 0) break;
+    total += made;
+  }
+  return total;
+}
+
+}  // namespace fracref

@@ -1,0 +1,34 @@
+#pragma once
+// Tucking the fracture surface inside the exterior before the flow: the coarse fracture surface
+// spans concave parts of B with flat faces that stick out of it, and the collision constraints
+// of the flow can only keep S where it is, not bring it back in.
+#include <cstddef>
+
+#include "refine/exterior.hpp"
+#include "refine/topology_edit.hpp"
+#include "surface/fracture_surface.hpp"
+
+namespace fracref {
+
+struct TuckOptions {
+  double scale = 1.0;     ///< the length unit (bbox diagonal of B)
+  double margin = 1e-3;   ///< a new vertex goes this far (· scale) inside B, at most
+  int passes = 8;         ///< rounds of splits
+  int sample_grid = 8;    ///< barycentric steps per side when looking for a face's part outside B
+};
+
+/// Repeats up to `passes` times: every face of S that meets B (its corners on B pulled 2% of the
+/// way to its centroid, so a rim face's own contact does not count) or whose centroid is outside
+/// B, and that has a sample point outside B, is split 1-to-3 at its deepest outside sample; the
+/// new vertex is placed at B's closest point to that sample, moved inward along B's normal by
+/// min(margin · scale, a fifth of the face's shortest edge). A split whose new faces would meet
+/// another face of S is not made. The tree records each new vertex at its sample point.
+/// \return the number of splits made.
+/// \pre s valid, tree covers every vertex of s.
+std::size_t tuck_inside(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& exterior,
+                        const TuckOptions& options = {});
+
+/// Whether face f of S meets B away from its own corners on B (see tuck_inside).
+bool face_meets_exterior(const FractureSurface& s, std::uint32_t f, const ExteriorSurface& exterior);
+
+}  // namespace fracref
