@@ -95,6 +95,39 @@ std::size_t tuck_edges(FractureSurface& s, RefinementTree& tree, const ExteriorS
   return requests.size();
 }
 
+// A rim face can meet B because its boundary edge's chord runs outside a concave B: that edge
+// is split at its midpoint projected onto B (as the refiner's conforming splits do), which
+// brings the chord toward B. Returns the number of splits.
+std::size_t tuck_rim_edges(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
+  std::vector<SplitRequest> requests;
+  std::vector<glm::vec3> targets;
+  std::optional<FaceGuard> guard;
+  std::vector<char> touched(s.faces.size(), 0);
+  for (std::uint32_t f = 0; f < s.faces.size(); ++f) {
+    if (touched[f] || !face_meets_exterior(s, f, b)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t e = s.face_edges[3 * f + k];
+      if (s.edge_special[e] != kEdgeBoundary) continue;
+      const glm::uvec2 ab = s.edges[e];
+      if (glm::distance(at(s, ab.x), at(s, ab.y)) <= 2.0 * o.min_edge * o.scale) continue;
+      const glm::dvec3 q = glm::dvec3(glm::vec3(closest_point(b.bvh, 0.5 * (at(s, ab.x) + at(s, ab.y))).point));
+      if (!guard) guard.emplace(s);
+      const std::uint32_t m = guard->add_vertex(q);
+      const glm::uvec4 face = s.faces[f];
+      const std::uint32_t z = face.x + face.y + face.z - ab.x - ab.y;
+      const TriangleIds n1 = {ab.x, m, z}, n2 = {m, ab.y, z};
+      if (!guard->clear({n1, n2}, {f})) continue;
+      guard->accept({n1, n2}, {f});
+      touched[f] = 1;
+      requests.push_back({SplitRequest::kEdge, e, glm::vec3(0.5f, 0.5f, 0.0f)});
+      targets.push_back(glm::vec3(q));
+      break;
+    }
+  }
+  if (!requests.empty()) apply_splits(s, tree, requests, &targets);
+  return requests.size();
+}
+
 // Splits of the faces whose inside leaves B; returns the number of splits.
 std::size_t tuck_faces(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
   std::vector<SplitRequest> requests;
@@ -137,6 +170,7 @@ std::size_t tuck_inside(FractureSurface& s, RefinementTree& tree, const Exterior
   std::size_t total = 0;
   for (int pass = 0; pass < o.passes; ++pass) {
     std::size_t made = tuck_edges(s, tree, b, o);
+    if (made == 0) made = tuck_rim_edges(s, tree, b, o);
     if (made == 0) made = tuck_faces(s, tree, b, o);
     if (made == 0) break;
     total += made;

@@ -13,8 +13,9 @@ namespace fracref {
 struct TuckOptions {
   double scale = 1.0;     ///< the length unit (bbox diagonal of B)
   double margin = 1e-3;   ///< a new vertex goes this far (· scale) inside B, at most
-  int passes = 8;         ///< rounds of splits
+  int passes = 12;         ///< rounds of splits
   int sample_grid = 8;    ///< barycentric steps per side when looking for a face's part outside B
+  double min_edge = 0.004;  ///< boundary edges shorter than twice this (· scale) are not split
 };
 
 /// Repeats up to `passes` times: every face of S that meets B (its corners on B pulled 2% of the

@@ -366,7 +366,7 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   be_.set_field(field_);
   project_boundary_vertices(s_, b_);
   conform_boundary();
-  tuck_inside(s_, tree_, b_, TuckOptions{o_.scale});
+  tuck_inside(s_, tree_, b_, TuckOptions{o_.scale, 1e-3, 12, 8, o_.delta});
   evaluate();
   result.initial_energy = energy();
   for (int it = 0; it < o_.max_iterations; ++it) {
