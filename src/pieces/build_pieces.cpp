@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 
 #include "pieces/pieces.hpp"
 #include "pieces/pieces_internal.hpp"
@@ -22,6 +23,11 @@ constexpr double kPokeTolerance = 1e-6;
 constexpr double kMaxPush = 1.0;
 constexpr double kPushFactor = 1.25;
 constexpr std::size_t kMaxPushRounds = 8;
+// A fracture triangle crossing a B triangle pushes its S vertices off B this fraction of their
+// shortest edge per attempt; one crossing another fracture triangle relaxes its S vertices off
+// B this much further toward their neighbours' centroid (up to all the way).
+constexpr double kClashPush = 0.1;
+constexpr double kRelaxStep = 0.25;
 
 std::string vertex_pair(std::uint32_t a, std::uint32_t b) { return std::to_string(a) + "-" + std::to_string(b); }
 
@@ -62,12 +68,28 @@ struct PokingOut : RunError {
   std::map<std::uint32_t, Vertex> vertices;
 };
 
+// Fracture triangles crossing each other once the rim's traces bent them toward B (a pleat of
+// S, a few tiny faces folded onto each other next to the rim): build_pieces starts again with
+// the shortest edge at these S vertices contracted, or when none is left, the vertices relaxed
+// toward their neighbours.
+struct Folded : RunError {
+  struct Vertex {
+    glm::dvec3 at;
+    std::uint32_t nearest;  // the neighbour at its shortest edge
+    double shortest;
+  };
+  Folded(std::string what, std::map<std::uint32_t, Vertex> v) : RunError(std::move(what)), vertices(std::move(v)) {}
+  std::map<std::uint32_t, Vertex> vertices;
+};
+
 // What build_pieces changes between attempts (faces in input numbering).
 struct Retries {
   std::vector<std::uint32_t> left_out;  // flaps to leave out
   // Faces whose boundary edge is traced along their normal -> the push round it was decided in.
   std::map<std::uint32_t, std::size_t> along_normal;
   std::map<std::uint32_t, double> pushed;  // S vertex -> how far it is pushed into B
+  std::map<std::uint32_t, double> relaxed;  // S vertex -> fraction of the way to its neighbours
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> contractions;  // S edges (gone, keep)
   std::size_t push_rounds = 0, attempts = 0;
 
   // After a face could not be triangulated; false when nothing is left to try for it.
@@ -102,6 +124,30 @@ struct Retries {
     ++push_rounds;
     return true;
   }
+
+  // After fracture triangles crossed each other; false when a vertex is relaxed all the way.
+  bool next(const Folded& folded, std::string& why) {
+    std::set<std::uint32_t> gone;
+    for (const auto& c : contractions) gone.insert(c.first);
+    const Folded::Vertex* best = nullptr;
+    std::uint32_t best_v = 0;
+    for (const auto& [v, p] : folded.vertices)
+      if (!gone.count(v) && !gone.count(p.nearest) && (!best || p.shortest < best->shortest)) best = &p, best_v = v;
+    if (best) {
+      contractions.emplace_back(best_v, best->nearest);
+      return true;
+    }
+    for (const auto& [v, p] : folded.vertices) {
+      double& fraction = relaxed[v];
+      if (fraction >= 1.0) {
+        why = std::string(folded.what()) + "; still after moving fracture surface vertex " + std::to_string(v) + " at " +
+              format_point(p.at) + " to the centroid of its neighbours";
+        return false;
+      }
+      fraction = std::min(1.0, fraction + kRelaxStep);
+    }
+    return true;
+  }
 };
 
 class PieceBuilder {
@@ -111,12 +157,15 @@ class PieceBuilder {
         options_(options),
         retries_(retries),
         s_(repair_boundary(s, m_, options.merge_tolerance * m_.diagonal, options.remove_flaps,
-                           options.snap_tolerance * m_.diagonal, retries.left_out, repair_)) {
+                           options.snap_tolerance * m_.diagonal, retries.left_out, retries.contractions, repair_)) {
     out_.boundary_edges_merged = repair_.collapsed;
     out_.flaps_removed = repair_.flaps_removed;
+    out_.contracted = repair_.contracted;
     out_.rim_retracted = retract_rim(s_, m_, kPokeTolerance * m_.diagonal);
     push_inward(s_, m_, retries.pushed);
     out_.pushed_inward = std::uint32_t(retries.pushed.size());
+    relax_toward_neighbours(s_, retries.relaxed);
+    out_.relaxed = std::uint32_t(retries.relaxed.size());
   }
 
   PieceSet run() {
@@ -127,6 +176,7 @@ class PieceBuilder {
     b_triangles_ = cut_exterior(m_, cut_, out_.positions, options_.delaunay);
     remesh_fracture_faces();
     check_poking();
+    check_clashes();
     assemble(assign_patches());
     return std::move(out_);
   }
@@ -359,14 +409,52 @@ class PieceBuilder {
     if (poking.empty()) return;
     std::map<std::uint32_t, PokingOut::Vertex> vertices;
     for (const auto& [v, depth] : poking) vertices[v] = {depth, std::numeric_limits<double>::infinity(), out_.positions[v]};
-    for (const glm::uvec2& e : s_.edges) {
-      const double len = glm::length(out_.positions[e.x] - out_.positions[e.y]);
-      for (std::uint32_t v : {e.x, e.y}) {
-        auto it = vertices.find(v);
-        if (it != vertices.end()) it->second.limit = std::min(it->second.limit, kMaxPush * len);
-      }
-    }
+    for (auto& [v, p] : vertices) p.limit = kMaxPush * shortest_edge(v);
     throw PokingOut(std::move(vertices));
+  }
+
+  double shortest_edge(std::uint32_t v, std::uint32_t* nearest = nullptr) const {
+    double shortest = std::numeric_limits<double>::infinity();
+    for (std::uint32_t k = s_.vf_offsets[v]; k < s_.vf_offsets[v + 1]; ++k)
+      for (int c = 0; c < 3; ++c) {
+        const std::uint32_t w = s_.faces[s_.vf_faces[k]][c];
+        const double length = glm::length(out_.positions[v] - out_.positions[w]);
+        if (w == v || !(length < shortest)) continue;
+        shortest = length;
+        if (nearest) *nearest = w;
+      }
+    return shortest;
+  }
+
+  // Exact intersections the sampled poke test and the traces' checks cannot see: a fracture
+  // triangle through a B triangle (its S vertices are pushed inward), or two fracture triangles
+  // through each other (theirs are relaxed).
+  void check_clashes() const {
+    std::vector<Tri> triangles;
+    for (const auto& t : s_triangles_) triangles.insert(triangles.end(), t.begin(), t.end());
+    const Clashes c = find_clashes(out_.positions, triangles, b_triangles_, cut_.on_b, out_.s_vertex_count);
+    if (c.pairs == 0) return;
+    if (!c.poking.empty()) {
+      std::map<std::uint32_t, PokingOut::Vertex> vertices;
+      for (std::uint32_t v : c.poking)
+        vertices[v] = {kClashPush * shortest_edge(v), kMaxPush * shortest_edge(v), out_.positions[v]};
+      throw PokingOut(std::move(vertices));
+    }
+    auto describe = [&](int k) {
+      const Tri& t = c.first[std::size_t(k)];
+      return std::string(c.first_is_exterior[std::size_t(k)] ? "exterior" : "fracture") + " triangle (" +
+             format_point(out_.positions[t[0]]) + ", " + format_point(out_.positions[t[1]]) + ", " +
+             format_point(out_.positions[t[2]]) + ")";
+    };
+    const std::string what = describe(0) + " and " + describe(1) + " intersect";
+    if (c.folded.empty()) throw RunError("the pieces cannot be made: " + what);
+    std::map<std::uint32_t, Folded::Vertex> vertices;
+    for (std::uint32_t v : c.folded) {
+      Folded::Vertex& p = vertices[v];
+      p.at = out_.positions[v];
+      p.shortest = shortest_edge(v, &p.nearest);
+    }
+    throw Folded(what, std::move(vertices));
   }
 
   // A triangle with its corners on B lies flat on it unless its centroid is inside B, deeper
@@ -496,6 +584,9 @@ PieceSet build_pieces(const FractureSurface& s, const MeshSoup& exterior, const 
     } catch (const PokingOut& poking) {
       std::string why;
       if (!retries.next(poking, why) || retries.attempts >= kMaxAttempts) throw RunError(why.empty() ? "too many attempts" : why);
+    } catch (const Folded& folded) {
+      std::string why;
+      if (!retries.next(folded, why) || retries.attempts >= kMaxAttempts) throw RunError(why.empty() ? "too many attempts" : why);
     } catch (const UntriangulatedFace& failed) {
       if (!retries.next(failed) || retries.attempts >= kMaxAttempts) throw RunError(failed.what());
     }

@@ -48,7 +48,16 @@
 //     quarter farther than each alone would have to go to take the deepest poke back, at most
 //     the vertex's shortest edge over 8 rounds, and only while S stays free of
 //     self-intersections. (Step 0 already moved every rim vertex whose inner edge leaves it
-//     outside B to where that edge enters B.)
+//     outside B to where that edge enters B, unless S would then cross itself.)
+// 3c. Clashes. The fracture triangles and the cut B triangles are tested for intersections
+//     exactly (the grid of 3b can miss a thin poke). A fracture triangle through a B triangle
+//     pushes its S vertices off B as in 3b (a tenth of their shortest edge per round); two
+//     fracture triangles through each other (a pleat of S next to the rim: tiny faces folded
+//     onto each other, crossed once the traces bend the rim faces toward B) start the build
+//     again with the shortest edge at their S vertices off B contracted (one per attempt, only
+//     while S stays valid and free of self-intersections); when every such edge has been tried,
+//     those vertices move a quarter further toward the centroid of their neighbours per attempt,
+//     up to all the way, again only while S stays free of self-intersections.
 //  4. Patches. The cut B is flood-filled across its edges that are not on a trace. A patch face
 //     using the directed cut edge (x, y) in the winding direction of the S face on that edge
 //     belongs to that face's front piece, in the opposite direction to its back piece; every cut
@@ -140,6 +149,9 @@ struct PieceSet {
   std::uint32_t flaps_removed = 0;          ///< faces of S lying flat on B, left out
   std::uint32_t rim_retracted = 0;          ///< S boundary vertices moved to where S enters B (step 0)
   std::uint32_t pushed_inward = 0;          ///< S vertices off B moved inward by step 3b
+  std::uint32_t relaxed = 0;                ///< S vertices off B moved toward their neighbours (step 3c)
+  std::uint32_t contracted = 0;             ///< S edges at a fold contracted (step 3c; the removed
+                                            ///< end stays in positions, unused)
   std::uint32_t traces_rerouted = 0;        ///< route points added by step 2b (each a
                                             ///< RoutePoint, a CrossingPoint or a B vertex)
 };
@@ -175,7 +187,8 @@ struct PieceOptions {
 ///        point of B, a trace that cannot reach its end, traces that cross or touch (after step
 ///        2b), a face whose polygon cannot be triangulated (after the retries of step 3), faces
 ///        still poking out of B after the pushes of step 3b (or a push that would make S
-///        intersect itself), a patch that borders two different pieces.
+///        intersect itself), triangles still intersecting after the retries of step 3c, a patch
+///        that borders two different pieces.
 PieceSet build_pieces(const FractureSurface& s, const MeshSoup& exterior, const PieceOptions& options = {});
 
 /// What check_pieces finds about one piece.

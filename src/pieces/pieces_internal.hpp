@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -199,17 +200,22 @@ std::vector<std::array<std::uint32_t, 3>> cut_exterior(const ExteriorMesh& m, Ex
 struct RepairReport {
   std::uint32_t collapsed = 0;      ///< boundary edges contracted
   std::uint32_t flaps_removed = 0;  ///< faces lying flat on B removed
+  std::uint32_t contracted = 0;     ///< edges of `contractions` contracted
   std::vector<std::uint32_t> face_origin;  ///< per face of the result, its face in the input
 };
 
-/// S with every boundary edge shorter than `min_edge` contracted (shortest first; the end that
+/// S with the edges (gone, keep) of `contractions` contracted into keep, in order (those no
+/// longer edges skipped), then every boundary edge shorter than `min_edge` contracted (shortest first; the end that
 /// is kVertexOriginal, else the lower id, is kept) and, when `flaps`, the faces of `left_out`
 /// (input numbering: faces with two or three boundary edges whose fracture polygon could not be
 /// made) and then every face with two or three boundary edges (so all corners on B) that is
 /// needle-thin or whose centroid lies within 0.01 x its longest edge + `tolerance` of B removed.
-/// An edit that would make S invalid (validate()) is skipped. Vertex ids are kept.
+/// A contraction after which a face moved to the kept end meets another face of S (exact), and
+/// an edit that would make S invalid (validate()), are skipped. Vertex ids are kept.
 FractureSurface repair_boundary(FractureSurface s, const ExteriorMesh& m, double min_edge, bool flaps,
-                                double tolerance, const std::vector<std::uint32_t>& left_out, RepairReport& report);
+                                double tolerance, const std::vector<std::uint32_t>& left_out,
+                                const std::vector<std::pair<std::uint32_t, std::uint32_t>>& contractions,
+                                RepairReport& report);
 
 /// The S vertices off B (ids below s_vertex_count with on_b unset) of the triangles with a
 /// corner on B whose inside pokes out of B by more than `tolerance` (sampled on a grid), each
@@ -222,13 +228,36 @@ std::map<std::uint32_t, double> poking_vertices(const ExteriorMesh& m, const std
 
 /// Moves every rim vertex of S (kVertexBoundary) one of whose inner edges (to a vertex off the
 /// rim) leaves it outside B to where that edge enters B (the farthest such point, at most 0.3
-/// of the edge along): S overshoots B there and its true rim lies inside. Returns how many moved.
+/// of the edge along): S overshoots B there and its true rim lies inside. A vertex whose move
+/// would make S intersect itself at one of its faces stays. Returns how many moved.
 std::uint32_t retract_rim(FractureSurface& s, const ExteriorMesh& m, double tolerance);
 
 /// Moves each vertex of `push` that far into B, along the normal of B's triangle nearest to it.
 /// A vertex whose push makes S intersect itself at one of its faces has its push halved until S
 /// is clean, and after 6 halvings stays where it was (the poke it leaves is reported later).
 void push_inward(FractureSurface& s, const ExteriorMesh& m, const std::map<std::uint32_t, double>& push);
+
+/// The exact intersections among the fracture triangles (remeshed S faces) and the cut B
+/// triangles of an attempt, as vertices a retry can move. At most 256 pairs are looked at.
+struct Clashes {
+  std::size_t pairs = 0;  ///< intersecting pairs looked at
+  std::set<std::uint32_t> poking;  ///< S vertices off B of fracture triangles that cross B triangles
+  std::set<std::uint32_t> folded;  ///< S vertices off B of fracture triangles that cross each other
+  std::array<std::array<std::uint32_t, 3>, 2> first{};  ///< the first pair, for messages
+  std::array<bool, 2> first_is_exterior{};               ///< whether each is a B triangle
+};
+
+/// The clashes of `s_triangles` and `b_triangles` (global vertex ids into positions; on_b per
+/// vertex, the S vertices are the first s_vertex_count).
+Clashes find_clashes(const std::vector<glm::dvec3>& positions, const std::vector<std::array<std::uint32_t, 3>>& s_triangles,
+                     const std::vector<std::array<std::uint32_t, 3>>& b_triangles, const std::vector<std::uint8_t>& on_b,
+                     std::uint32_t s_vertex_count);
+
+/// Moves each vertex v of `relax` the fraction relax[v] of the way to the centroid of its
+/// neighbours in S (unfolding a sharp fold that the rim's traces would make S cross itself at).
+/// A vertex whose move would make S intersect itself at one of its faces has its move halved,
+/// and after 6 halvings stays. \pre adjacency current.
+void relax_toward_neighbours(FractureSurface& s, const std::map<std::uint32_t, double>& relax);
 
 /// "(x, y, z)" with 9 significant digits, for messages.
 std::string format_point(const glm::dvec3& p);

@@ -17,7 +17,7 @@ constexpr int kSampleGrid = 5;
 // this far to where it enters B.
 constexpr double kRimProbe = 0.02;
 constexpr double kMaxRetract = 0.3;
-// Self-intersections of S looked at after a push (those not involving a pushed vertex were
+// Self-intersections of S looked at after a move (those not involving a moved vertex were
 // there before and are not this step's to report).
 constexpr std::size_t kReportedHits = 256;
 constexpr int kPushHalvings = 6;
@@ -61,6 +61,36 @@ double entry_along(const ExteriorMesh& m, const glm::dvec3& w, const glm::dvec3&
   return in;
 }
 
+// The moved vertices that take part in a self-intersection of S.
+std::set<std::uint32_t> moved_into_itself(const FractureSurface& s, const std::map<std::uint32_t, glm::dvec3>& moved) {
+  const std::vector<glm::dvec3> positions = double_positions(s);
+  const std::vector<TriangleIds> faces = face_triangles(s);
+  std::set<std::uint32_t> out;
+  for (const auto& [f, g] : find_self_intersections(positions, faces, kReportedHits))
+    for (std::uint32_t x : {f, g})
+      for (std::uint32_t v : faces[x])
+        if (moved.count(v)) out.insert(v);
+  return out;
+}
+
+// Moves each vertex of `offset` by it; a vertex whose move makes S intersect itself at one of
+// its faces has its move halved until S is clean, and after `halvings` halvings stays where it
+// was. Returns how many vertices moved.
+std::uint32_t move_clear_of_itself(FractureSurface& s, const std::map<std::uint32_t, glm::dvec3>& offset, int halvings) {
+  std::map<std::uint32_t, std::pair<glm::dvec3, double>> start_and_scale;
+  for (const auto& [v, d] : offset) start_and_scale[v] = {glm::dvec3(glm::vec3(s.positions[v])), 1.0};
+  for (int round = 0; round <= halvings + 1; ++round) {
+    for (const auto& [v, ss] : start_and_scale)
+      s.positions[v] = glm::vec4(glm::vec3(ss.first + ss.second * offset.at(v)), s.positions[v].w);
+    const std::set<std::uint32_t> bad = offset.empty() ? std::set<std::uint32_t>{} : moved_into_itself(s, offset);
+    if (bad.empty()) break;
+    for (std::uint32_t v : bad) start_and_scale[v].second = round < halvings ? 0.5 * start_and_scale[v].second : 0.0;
+  }
+  std::uint32_t moved = 0;
+  for (const auto& [v, ss] : start_and_scale) moved += ss.second > 0.0;
+  return moved;
+}
+
 }  // namespace
 
 std::uint32_t retract_rim(FractureSurface& s, const ExteriorMesh& m, double tolerance) {
@@ -75,14 +105,14 @@ std::uint32_t retract_rim(FractureSurface& s, const ExteriorMesh& m, double tole
       if (t > along[w]) along[w] = t, toward[w] = v;
     }
   }
-  std::uint32_t moved = 0;
+  std::map<std::uint32_t, glm::dvec3> offset;
   for (std::uint32_t w = 0; w < s.positions.size(); ++w) {
     if (along[w] == 0.0) continue;
     const glm::dvec3 x = at(w) + along[w] * (at(toward[w]) - at(w));
-    s.positions[w] = glm::vec4(glm::vec3(closest_point(m.bvh, x).point), s.positions[w].w);
-    ++moved;
+    offset[w] = closest_point(m.bvh, x).point - at(w);
   }
-  return moved;
+  // A rim vertex must stay on B, so a retraction is made whole or not at all.
+  return move_clear_of_itself(s, offset, 0);
 }
 
 std::map<std::uint32_t, double> poking_vertices(const ExteriorMesh& m, const std::vector<glm::dvec3>& positions,
@@ -103,44 +133,33 @@ std::map<std::uint32_t, double> poking_vertices(const ExteriorMesh& m, const std
   return out;
 }
 
-namespace {
-
-// The pushed vertices that take part in a self-intersection of S.
-std::set<std::uint32_t> pushed_into_itself(const FractureSurface& s, const std::map<std::uint32_t, double>& push) {
-  std::vector<glm::dvec3> positions;
-  for (const glm::vec4& p : s.positions) positions.emplace_back(glm::vec3(p));
-  std::vector<TriangleIds> faces;
-  for (const glm::uvec4& f : s.faces) faces.push_back({f.x, f.y, f.z});
-  std::set<std::uint32_t> out;
-  for (const auto& [f, g] : find_self_intersections(positions, faces, kReportedHits))
-    for (std::uint32_t x : {f, g})
-      for (std::uint32_t v : faces[x])
-        if (push.count(v)) out.insert(v);
-  return out;
-}
-
-}  // namespace
-
 // A full push can drive a vertex through a nearby sheet of S (two sheets drawn to the same weak
-// vein run close). Such a vertex's push is halved until S is clean again, and given up (the
-// vertex left where it was) after kPushHalvings; a poke it leaves is reported by the next check.
+// vein run close): such a push is halved, and given up after kPushHalvings; a poke it leaves is
+// reported by the next check.
 void push_inward(FractureSurface& s, const ExteriorMesh& m, const std::map<std::uint32_t, double>& push) {
-  if (push.empty()) return;
-  std::map<std::uint32_t, std::pair<glm::dvec3, glm::dvec3>> start_and_offset;
+  std::map<std::uint32_t, glm::dvec3> offset;
   for (const auto& [v, distance] : push) {
     const glm::dvec3 p(glm::vec3(s.positions[v]));
-    const glm::dvec3 n = m.face_normals[closest_point(m.bvh, p).triangle];
-    start_and_offset[v] = {p, -distance * n};
+    offset[v] = -distance * m.face_normals[closest_point(m.bvh, p).triangle];
   }
-  std::map<std::uint32_t, double> scale;
-  for (const auto& [v, so] : start_and_offset) scale[v] = 1.0;
-  for (int round = 0; round <= kPushHalvings; ++round) {
-    for (const auto& [v, so] : start_and_offset)
-      s.positions[v] = glm::vec4(glm::vec3(so.first + scale[v] * so.second), s.positions[v].w);
-    const std::set<std::uint32_t> bad = pushed_into_itself(s, push);
-    if (bad.empty()) return;
-    for (std::uint32_t v : bad) scale[v] = round + 1 < kPushHalvings ? 0.5 * scale[v] : 0.0;
+  move_clear_of_itself(s, offset, kPushHalvings);
+}
+
+// Relaxing flattens a fold that the flow left sharp next to the rim: the traces bend the rim
+// faces toward B, and a neighbour folded onto them is then crossed.
+void relax_toward_neighbours(FractureSurface& s, const std::map<std::uint32_t, double>& relax) {
+  std::map<std::uint32_t, glm::dvec3> offset;
+  for (const auto& [v, fraction] : relax) {
+    std::set<std::uint32_t> ring;
+    for (std::uint32_t k = s.vf_offsets[v]; k < s.vf_offsets[v + 1]; ++k)
+      for (int c = 0; c < 3; ++c)
+        if (s.faces[s.vf_faces[k]][c] != v) ring.insert(s.faces[s.vf_faces[k]][c]);
+    if (ring.empty()) continue;
+    glm::dvec3 centroid(0.0);
+    for (std::uint32_t w : ring) centroid += glm::dvec3(glm::vec3(s.positions[w]));
+    offset[v] = fraction * (centroid / double(ring.size()) - glm::dvec3(glm::vec3(s.positions[v])));
   }
+  move_clear_of_itself(s, offset, kPushHalvings);
 }
 
 }  // namespace fracref::pieces_detail

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geom/intersect.hpp"
 #include "pieces/pieces_internal.hpp"
 #include "surface/fracture_surface.hpp"
 
@@ -23,24 +24,52 @@ bool try_faces(FractureSurface& s, std::vector<glm::uvec4> faces, std::vector<gl
   return true;
 }
 
-// Boundary edge a-b contracted into one of its ends: the faces on it vanish, the others of the
-// removed end move to the kept one.
-bool collapse(FractureSurface& s, std::vector<std::uint32_t>& origin, std::uint32_t a, std::uint32_t b) {
-  const bool keep_b = (s.vertex_flags[b] & kVertexOriginal) && !(s.vertex_flags[a] & kVertexOriginal);
-  const std::uint32_t keep = keep_b ? b : a, gone = keep_b ? a : b;
+// Whether the faces `changed` of `faces` meet no other face except where they connect (exact).
+// A linear scan with a box test: collapses are few, and a tree per collapse would cost more.
+bool clear_of_the_rest(const std::vector<glm::dvec3>& x, const std::vector<glm::uvec4>& faces,
+                       const std::vector<std::uint32_t>& changed) {
+  auto box = [&](const glm::uvec4& f, glm::dvec3& lo, glm::dvec3& hi) {
+    lo = glm::min(glm::min(x[f.x], x[f.y]), x[f.z]);
+    hi = glm::max(glm::max(x[f.x], x[f.y]), x[f.z]);
+  };
+  for (std::uint32_t c : changed) {
+    glm::dvec3 lo, hi, glo, ghi;
+    box(faces[c], lo, hi);
+    for (std::uint32_t g = 0; g < faces.size(); ++g) {
+      box(faces[g], glo, ghi);
+      if (g == c || glm::any(glm::lessThan(ghi, lo)) || glm::any(glm::greaterThan(glo, hi))) continue;
+      if (mesh_faces_intersect(x, {faces[c].x, faces[c].y, faces[c].z}, {faces[g].x, faces[g].y, faces[g].z}))
+        return false;
+    }
+  }
+  return true;
+}
+
+// Edge gone-keep contracted into keep: the faces on it vanish, the others of the removed end
+// move to the kept one. Refused when a moved face would then cut through S (the
+// faces around the removed end swing over to the kept one, across whatever lies between).
+bool contract(FractureSurface& s, std::vector<std::uint32_t>& origin, std::uint32_t gone, std::uint32_t keep) {
   std::vector<glm::uvec4> faces;
   std::vector<glm::ivec2> pieces;
-  std::vector<std::uint32_t> new_origin;
+  std::vector<std::uint32_t> new_origin, changed;
   for (std::size_t f = 0; f < s.faces.size(); ++f) {
     glm::uvec4 t = s.faces[f];
     for (int k = 0; k < 3; ++k)
       if (t[k] == gone) t[k] = keep;
     if (t.x == t.y || t.y == t.z || t.z == t.x) continue;
+    if (t != s.faces[f]) changed.push_back(std::uint32_t(faces.size()));
     faces.push_back(t);
     pieces.push_back(s.face_pieces[f]);
     new_origin.push_back(origin[f]);
   }
+  if (!clear_of_the_rest(double_positions(s), faces, changed)) return false;
   return try_faces(s, std::move(faces), std::move(pieces), origin, std::move(new_origin));
+}
+
+// The end that is kVertexOriginal, else a, is kept.
+bool collapse(FractureSurface& s, std::vector<std::uint32_t>& origin, std::uint32_t a, std::uint32_t b) {
+  const bool keep_b = (s.vertex_flags[b] & kVertexOriginal) && !(s.vertex_flags[a] & kVertexOriginal);
+  return keep_b ? contract(s, origin, a, b) : contract(s, origin, b, a);
 }
 
 bool remove_face(FractureSurface& s, std::vector<std::uint32_t>& origin, std::uint32_t face) {
@@ -140,10 +169,14 @@ void remove_flaps(FractureSurface& s, std::vector<std::uint32_t>& origin, const 
 }  // namespace
 
 FractureSurface repair_boundary(FractureSurface s, const ExteriorMesh& m, double min_edge, bool flaps,
-                                double tolerance, const std::vector<std::uint32_t>& left_out, RepairReport& report) {
+                                double tolerance, const std::vector<std::uint32_t>& left_out,
+                                const std::vector<std::pair<std::uint32_t, std::uint32_t>>& contractions,
+                                RepairReport& report) {
   FractureSurface out = std::move(s);
   report.face_origin.resize(out.faces.size());
   for (std::uint32_t f = 0; f < out.faces.size(); ++f) report.face_origin[f] = f;
+  for (const auto& [gone, keep] : contractions)
+    if (find_edge(out, gone, keep) != kNoEdge && contract(out, report.face_origin, gone, keep)) ++report.contracted;
   if (min_edge > 0.0) collapse_short_edges(out, report.face_origin, min_edge, report.collapsed);
   if (!flaps) return out;
   for (std::uint32_t face : left_out) {

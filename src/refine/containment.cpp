@@ -4,7 +4,7 @@
 #include <cmath>
 #include <optional>
 
-#include "refine/face_guard.hpp"
+#include "geom/face_guard.hpp"
 
 namespace fracref {
 namespace {
@@ -73,7 +73,7 @@ std::size_t tuck_edges(FractureSurface& s, RefinementTree& tree, const ExteriorS
     const glm::dvec3 q = inside_target(b, (1.0 - t) * at(s, ab.x) + double(t) * at(s, ab.y),
                                        std::min(o.margin * o.scale, 0.1 * length));
     if (!b.contains(q)) continue;
-    if (!guard) guard.emplace(s);
+    if (!guard) guard.emplace(double_positions(s), face_triangles(s));
     const std::uint32_t m = guard->add_vertex(q);
     bool clear = true;
     for (std::uint32_t k = first; k < last && clear; ++k) {
@@ -111,7 +111,7 @@ std::size_t tuck_rim_edges(FractureSurface& s, RefinementTree& tree, const Exter
       const glm::uvec2 ab = s.edges[e];
       if (glm::distance(at(s, ab.x), at(s, ab.y)) <= 2.0 * o.min_edge * o.scale) continue;
       const glm::dvec3 q = glm::dvec3(glm::vec3(closest_point(b.bvh, 0.5 * (at(s, ab.x) + at(s, ab.y))).point));
-      if (!guard) guard.emplace(s);
+      if (!guard) guard.emplace(double_positions(s), face_triangles(s));
       const std::uint32_t m = guard->add_vertex(q);
       const glm::uvec4 face = s.faces[f];
       const std::uint32_t z = face.x + face.y + face.z - ab.x - ab.y;
@@ -141,7 +141,7 @@ std::size_t tuck_faces(FractureSurface& s, RefinementTree& tree, const ExteriorS
     const glm::dvec3 x = double(w.x) * at(s, face.x) + double(w.y) * at(s, face.y) + double(w.z) * at(s, face.z);
     const glm::dvec3 q = inside_target(b, x, std::min(o.margin * o.scale, 0.2 * shortest_edge(s, face)));
     if (!b.contains(q)) continue;
-    if (!guard) guard.emplace(s);
+    if (!guard) guard.emplace(double_positions(s), face_triangles(s));
     const std::uint32_t m = guard->add_vertex(q);
     const TriangleIds n1 = {face.x, face.y, m}, n2 = {face.y, face.z, m}, n3 = {face.z, face.x, m};
     if (!guard->clear({n1, n2, n3}, {f})) continue;

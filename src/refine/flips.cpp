@@ -5,7 +5,7 @@
 #include <optional>
 #include <set>
 
-#include "refine/face_guard.hpp"
+#include "geom/face_guard.hpp"
 
 #include "refine/topology_edit.hpp"
 
@@ -92,7 +92,7 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
     if (created.count(diagonal) || !flip_improves(q, o)) continue;
     // A flip moves surface inside its quad when the quad is not flat, which can cut through a
     // nearby sheet of S.
-    if (!guard) guard.emplace(s);
+    if (!guard) guard.emplace(double_positions(s), face_triangles(s));
     const TriangleIds n1 = {cd.x, ab.x, cd.y}, n2 = {cd.y, ab.y, cd.x};
     if (!guard->clear({n1, n2}, {ff.x, ff.y})) continue;
     if (!flip_edge(s, e)) continue;

@@ -151,6 +151,20 @@ PieceMesh piece_mesh(const FractureSurface& s, int piece) {
   return mesh;
 }
 
+std::vector<glm::dvec3> double_positions(const FractureSurface& s) {
+  std::vector<glm::dvec3> out;
+  out.reserve(s.positions.size());
+  for (const glm::vec4& p : s.positions) out.emplace_back(glm::vec3(p));
+  return out;
+}
+
+std::vector<std::array<std::uint32_t, 3>> face_triangles(const FractureSurface& s) {
+  std::vector<std::array<std::uint32_t, 3>> out;
+  out.reserve(s.faces.size());
+  for (const glm::uvec4& f : s.faces) out.push_back({f.x, f.y, f.z});
+  return out;
+}
+
 std::uint32_t find_edge(const FractureSurface& s, std::uint32_t a, std::uint32_t b) {
   const glm::uvec2 key(std::min(a, b), std::max(a, b));
   auto less = [](glm::uvec2 x, glm::uvec2 y) { return x.x != y.x ? x.x < y.x : x.y < y.y; };

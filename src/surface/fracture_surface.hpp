@@ -6,6 +6,7 @@
 //
 // Connectivity (faces, face_pieces, vertex_flags' kVertexOriginal bit) is the source of truth;
 // everything else is derived by rebuild_adjacency(), which must run after every topology edit.
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -110,6 +111,12 @@ void rebuild_adjacency(FractureSurface& s);
 /// piece is its back, reversed where it is its front), vertices numbered as in `copies`.
 /// \throw RunError when piece is not in [0, piece_count).
 PieceMesh piece_mesh(const FractureSurface& s, int piece);
+
+/// S's positions in double precision (w dropped), for exact predicates and distance queries.
+std::vector<glm::dvec3> double_positions(const FractureSurface& s);
+
+/// S's faces as vertex-id triples (pieces dropped).
+std::vector<std::array<std::uint32_t, 3>> face_triangles(const FractureSurface& s);
 
 /// The id of the undirected edge {a, b}, or kNoEdge. O(log edges). \pre adjacency is current.
 std::uint32_t find_edge(const FractureSurface& s, std::uint32_t a, std::uint32_t b);

@@ -1,19 +1,15 @@
-#include "refine/face_guard.hpp"
+#include "geom/face_guard.hpp"
 
 #include <algorithm>
+#include <utility>
 
 namespace fracref {
 
-FaceGuard::FaceGuard(const FractureSurface& s) : s_faces_(s.faces.size()), gone_(s.faces.size(), 0) {
-  x_.reserve(s.positions.size());
-  for (const glm::vec4& p : s.positions) x_.emplace_back(glm::vec3(p));
-  faces_.reserve(s.faces.size());
+FaceGuard::FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces)
+    : x_(std::move(positions)), faces_(std::move(faces)), s_faces_(faces_.size()), gone_(faces_.size(), 0) {
   std::vector<Aabb> boxes;
-  boxes.reserve(s.faces.size());
-  for (const glm::uvec4& f : s.faces) {
-    faces_.push_back({f.x, f.y, f.z});
-    boxes.push_back(box_of(faces_.back()));
-  }
+  boxes.reserve(faces_.size());
+  for (const TriangleIds& t : faces_) boxes.push_back(box_of(t));
   bvh_ = build_bvh(boxes);
 }
 

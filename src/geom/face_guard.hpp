@@ -1,0 +1,45 @@
+#pragma once
+// Exact intersection guard for local edits of a triangle soup (the fracture surface S): before an
+// edit replaces some faces by others, test that the new faces meet no other face.
+#include <cstdint>
+#include <initializer_list>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "geom/bvh.hpp"
+#include "geom/intersect.hpp"
+
+namespace fracref {
+
+/// A snapshot of a mesh (positions, faces, a box tree over the faces) plus the edits accepted
+/// since: replaced faces are dropped from the tests, new faces and new vertices are added.
+/// \pre the mesh's positions do not change while the guard is in use (only faces are replaced).
+class FaceGuard {
+ public:
+  /// \pre every face index is below positions.size().
+  FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces);
+
+  /// Adds a vertex that the new faces may use; returns its id (after the mesh's vertices).
+  std::uint32_t add_vertex(const glm::dvec3& p);
+
+  /// Whether `faces` (vertex ids of the mesh or added vertices) meet no face of S other than the
+  /// `replaced` ones and those replaced before, nor any face accepted before (exact; faces that
+  /// share vertices are judged as mesh_faces_intersect does).
+  bool clear(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced) const;
+
+  /// Records an accepted edit: `replaced` faces of the mesh are gone, `faces` exist.
+  void accept(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced);
+
+ private:
+  Aabb box_of(const TriangleIds& t) const;
+
+  std::vector<glm::dvec3> x_;
+  std::vector<TriangleIds> faces_;   // the mesh's faces, then the accepted new ones
+  std::size_t s_faces_ = 0;
+  std::vector<char> gone_;           // per mesh face
+  Bvh bvh_;
+  std::vector<Aabb> new_boxes_;      // per accepted new face
+};
+
+}  // namespace fracref

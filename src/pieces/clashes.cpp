@@ -1,0 +1,35 @@
+// Exact intersections among the assembled triangles of the pieces, sorted into what a retry can
+// fix (pieces.hpp, step 3c).
+#include "geom/intersect.hpp"
+#include "pieces/pieces_internal.hpp"
+
+namespace fracref::pieces_detail {
+namespace {
+
+// Clashing pairs looked at per attempt; the next attempt finds the rest.
+constexpr std::size_t kReportedClashes = 256;
+
+}  // namespace
+
+Clashes find_clashes(const std::vector<glm::dvec3>& positions, const std::vector<std::array<std::uint32_t, 3>>& s_triangles,
+                     const std::vector<std::array<std::uint32_t, 3>>& b_triangles, const std::vector<std::uint8_t>& on_b,
+                     std::uint32_t s_vertex_count) {
+  std::vector<TriangleIds> all(s_triangles.begin(), s_triangles.end());
+  all.insert(all.end(), b_triangles.begin(), b_triangles.end());
+  const std::uint32_t from_s = std::uint32_t(s_triangles.size());
+  Clashes out;
+  auto movable = [&](std::uint32_t t, std::set<std::uint32_t>& into) {
+    if (t >= from_s) return;
+    for (std::uint32_t v : all[t])
+      if (v < s_vertex_count && !on_b[v]) into.insert(v);
+  };
+  for (const auto& [f, g] : find_self_intersections(positions, all, kReportedClashes)) {
+    if (out.pairs == 0) out.first = {all[f], all[g]}, out.first_is_exterior = {f >= from_s, g >= from_s};
+    ++out.pairs;
+    movable(f, (f >= from_s) != (g >= from_s) ? out.poking : out.folded);
+    movable(g, (f >= from_s) != (g >= from_s) ? out.poking : out.folded);
+  }
+  return out;
+}
+
+}  // namespace fracref::pieces_detail
