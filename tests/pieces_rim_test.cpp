@@ -1,7 +1,8 @@
 // S crossing B near its rim, on an L-shaped prism (its inner vertical edge at x = y = 1 is a
 // concave crease): a rim vertex whose inner edge leaves it outside B is retracted to where the
 // edge enters B, fracture triangles that poke out of B name the vertices to push, and a push
-// moves a vertex into B.
+// moves a vertex into B. Then the repairs that must not make S cross itself (boundary
+// contractions) and the exact clash test of the assembled triangles.
 #include <gtest/gtest.h>
 
 #include "geom/intersect.hpp"
@@ -85,6 +86,74 @@ TEST(PiecesRim, PushMovesAVertexIntoB) {
   std::vector<TriangleIds> tris;
   for (const glm::uvec4& f : t.faces) tris.push_back({f.x, f.y, f.z});
   EXPECT_TRUE(find_self_intersections(x, tris, 1).empty());
+}
+
+}  // namespace
+}  // namespace fracref
+
+namespace fracref {
+namespace {
+
+using namespace pieces_detail;
+using namespace pieces_test;
+
+// A boundary contraction swings the faces of the removed end over to the kept one; when that
+// sweeps a face through another sheet of S, the contraction is refused.
+// a = 0, b = 1, c = 2 on the rim (c between a and b), r = 3; faces (a, c, r) and (c, b, r)
+// folded along c-r. Contracting c into b turns (a, c, r) into (a, b, r), which the blocker
+// (vertices 4..6, clear of both old faces) pierces at q = a/2 + b/4 + r/4.
+FractureSurface folded_rim(bool with_blocker) {
+  const glm::dvec3 a(0, 0, 1), b(1, 0, 0), c(0.5, 0, 0), r(0.5, 1, 0), q = 0.5 * a + 0.25 * b + 0.25 * r;
+  const glm::dvec3 n = glm::normalize(glm::dvec3(1, 0.5, 1)), u = glm::normalize(glm::dvec3(1, 0, -1));
+  std::vector<glm::vec4> positions;
+  for (const glm::dvec3& p : {a, b, c, r, q - 0.1 * n, q + 1.0 * n, q + 0.5 * n + 0.6 * u})
+    positions.emplace_back(glm::vec3(p), 1.0f);
+  std::vector<glm::uvec4> faces = {{0, 2, 3, 0}, {2, 1, 3, 0}};
+  if (with_blocker) faces.push_back({4, 5, 6, 0});
+  return make_fracture_surface(positions, faces, std::vector<glm::ivec2>(faces.size(), glm::ivec2(1, 0)), 2);
+}
+
+TEST(PiecesRepair, ContractionSweepingAFaceThroughSIsRefused) {
+  const ExteriorMesh m = make_exterior_mesh(voxel_surface({{0, 0, 0}}, 1.0));
+  RepairReport free_report, blocked_report;
+  // Only c-b (0.5) is shorter than 0.55; the blocker's edges are longer.
+  const FractureSurface free = repair_boundary(folded_rim(false), m, 0.55, false, 0.0, {}, {}, free_report);
+  EXPECT_EQ(free_report.collapsed, 1u);
+  ASSERT_EQ(free.faces.size(), 1u);
+  EXPECT_EQ(free.faces[0], glm::uvec4(0, 1, 3, 0));
+  const FractureSurface before = folded_rim(true);
+  const FractureSurface blocked = repair_boundary(before, m, 0.55, false, 0.0, {}, {}, blocked_report);
+  EXPECT_EQ(blocked_report.collapsed, 0u);
+  EXPECT_EQ(blocked.faces, before.faces);
+  EXPECT_TRUE(find_self_intersections(double_positions(blocked), face_triangles(blocked), 1).empty());
+}
+
+TEST(PiecesRepair, RequestedContractionIsMadeAndRecorded) {
+  const ExteriorMesh m = make_exterior_mesh(voxel_surface({{0, 0, 0}}, 1.0));
+  RepairReport report;
+  const FractureSurface s = repair_boundary(folded_rim(false), m, 0.0, false, 0.0, {}, {{2, 1}, {7, 8}}, report);
+  EXPECT_EQ(report.contracted, 1u);  // 7-8 is no edge: skipped
+  ASSERT_EQ(s.faces.size(), 1u);
+  EXPECT_EQ(s.faces[0], glm::uvec4(0, 1, 3, 0));
+  EXPECT_EQ(report.face_origin, std::vector<std::uint32_t>{0});
+}
+
+// Clashes sort the crossings of the assembled triangles into what a retry moves: S vertices off
+// B of a fracture triangle through a B triangle are pushed, those of two fracture triangles
+// through each other are relaxed or contracted.
+TEST(PiecesClashes, CrossingsNameTheMovableVertices) {
+  // Fracture triangle 0-1-2 (0 on B), fracture triangle 3-4-5 through it, B triangle 6-7-8
+  // through fracture triangle 0-1-2 as well; vertex 9 is not of S.
+  const std::vector<glm::dvec3> x = {{0, 0, 0},  {1, 0, 0},   {0, 1, 0},   {0.2, 0.2, -1}, {0.3, 0.2, 1},
+                                     {0.2, 0.3, 1}, {0.6, 0.1, -1}, {0.7, 0.1, 1}, {0.6, 0.2, 1}, {5, 5, 5}};
+  const std::vector<std::uint8_t> on_b = {1, 0, 0, 0, 0, 0, 1, 1, 1, 0};
+  const Clashes both = find_clashes(x, {{0, 1, 2}, {3, 4, 5}}, {{6, 7, 8}}, on_b, 6);
+  EXPECT_EQ(both.pairs, 2u);
+  EXPECT_EQ(both.poking, (std::set<std::uint32_t>{1, 2}));
+  EXPECT_EQ(both.folded, (std::set<std::uint32_t>{1, 2, 3, 4, 5}));
+  const Clashes none = find_clashes(x, {{0, 1, 2}}, {{7, 8, 9}}, on_b, 6);
+  EXPECT_EQ(none.pairs, 0u);
+  EXPECT_TRUE(none.poking.empty() && none.folded.empty());
 }
 
 }  // namespace
