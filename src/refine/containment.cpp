@@ -35,8 +35,8 @@ double shortest_edge(const FractureSurface& s, const glm::uvec4& f) {
 }
 
 // The point of edge e farthest outside B, as t along it (samples off its ends, and off the
-// rim strip at an end on B); false if none is outside.
-bool deepest_outside_on_edge(const FractureSurface& s, std::uint32_t e, const ExteriorSurface& b, int grid, float& t) {
+// rim strip at an end on B), and its squared distance to B; 0 if none is outside.
+double deepest_outside_on_edge(const FractureSurface& s, std::uint32_t e, const ExteriorSurface& b, int grid, float& t) {
   const glm::uvec2 ab = s.edges[e];
   const bool rim_a = s.vertex_flags[ab.x] & kVertexBoundary, rim_b = s.vertex_flags[ab.y] & kVertexBoundary;
   double worst = 0.0;
@@ -47,7 +47,7 @@ bool deepest_outside_on_edge(const FractureSurface& s, std::uint32_t e, const Ex
     const double d = b.squared_distance(x);
     if (d > worst && !b.contains(x)) worst = d, t = float(u);
   }
-  return worst > 0.0;
+  return worst;
 }
 
 glm::dvec3 inside_target(const ExteriorSurface& b, const glm::dvec3& x, double margin) {
@@ -67,7 +67,7 @@ std::size_t tuck_edges(FractureSurface& s, RefinementTree& tree, const ExteriorS
     bool busy = false;
     for (std::uint32_t k = first; k < last; ++k) busy = busy || touched[s.ef_faces[k]];
     float t = 0.0f;
-    if (busy || !deepest_outside_on_edge(s, e, b, o.sample_grid, t)) continue;
+    if (busy || deepest_outside_on_edge(s, e, b, o.sample_grid, t) == 0.0) continue;
     const glm::uvec2 ab = s.edges[e];
     const double length = glm::distance(at(s, ab.x), at(s, ab.y));
     const glm::dvec3 q = inside_target(b, (1.0 - t) * at(s, ab.x) + double(t) * at(s, ab.y),
@@ -95,9 +95,11 @@ std::size_t tuck_edges(FractureSurface& s, RefinementTree& tree, const ExteriorS
   return requests.size();
 }
 
-// A rim face can meet B because its boundary edge's chord runs outside a concave B: that edge
-// is split at its midpoint projected onto B (as the refiner's conforming splits do), which
-// brings the chord toward B. Returns the number of splits.
+// A rim face can meet B because its boundary edge's chord runs outside a concave B: the edge
+// whose chord reaches farthest out is split there, the new vertex projected onto B (as the
+// refiner's conforming splits do), which brings the chord toward B. A rim face that meets B
+// with every chord inside has its longest boundary edge split at the midpoint: a finer rim
+// follows B more closely. Returns the number of splits.
 std::size_t tuck_rim_edges(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
   std::vector<SplitRequest> requests;
   std::vector<glm::vec3> targets;
@@ -105,24 +107,34 @@ std::size_t tuck_rim_edges(FractureSurface& s, RefinementTree& tree, const Exter
   std::vector<char> touched(s.faces.size(), 0);
   for (std::uint32_t f = 0; f < s.faces.size(); ++f) {
     if (touched[f] || !face_meets_exterior(s, f, b)) continue;
+    std::uint32_t edge = kNoEdge, longest = kNoEdge;
+    double deepest = 0.0, longest_length = 0.0;
+    float t = 0.5f;
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t e = s.face_edges[3 * f + k];
-      if (s.edge_special[e] != kEdgeBoundary) continue;
       const glm::uvec2 ab = s.edges[e];
-      if (glm::distance(at(s, ab.x), at(s, ab.y)) <= 2.0 * o.min_edge * o.scale) continue;
-      const glm::dvec3 q = glm::dvec3(glm::vec3(closest_point(b.bvh, 0.5 * (at(s, ab.x) + at(s, ab.y))).point));
-      if (!guard) guard.emplace(double_positions(s), face_triangles(s));
-      const std::uint32_t m = guard->add_vertex(q);
-      const glm::uvec4 face = s.faces[f];
-      const std::uint32_t z = face.x + face.y + face.z - ab.x - ab.y;
-      const TriangleIds n1 = {ab.x, m, z}, n2 = {m, ab.y, z};
-      if (!guard->clear({n1, n2}, {f})) continue;
-      guard->accept({n1, n2}, {f});
-      touched[f] = 1;
-      requests.push_back({SplitRequest::kEdge, e, glm::vec3(0.5f, 0.5f, 0.0f)});
-      targets.push_back(glm::vec3(q));
-      break;
+      const double length = glm::distance(at(s, ab.x), at(s, ab.y));
+      float te = 0.5f;
+      if (s.edge_special[e] != kEdgeBoundary || length <= 2.0 * o.min_edge * o.scale) continue;
+      if (length > longest_length) longest_length = length, longest = e;
+      const double d = deepest_outside_on_edge(s, e, b, o.sample_grid, te);
+      if (d > deepest) deepest = d, edge = e, t = te;
     }
+    if (edge == kNoEdge) edge = longest;  // the face meets B off its chords: refine its rim
+    t = 0.5f;
+    if (edge == kNoEdge) continue;
+    const glm::uvec2 ab = s.edges[edge];
+    const glm::dvec3 q = b.closest_point((1.0 - t) * at(s, ab.x) + double(t) * at(s, ab.y));
+    if (!guard) guard.emplace(double_positions(s), face_triangles(s));
+    const std::uint32_t m = guard->add_vertex(glm::dvec3(glm::vec3(q)));
+    const glm::uvec4 face = s.faces[f];
+    const std::uint32_t z = face.x + face.y + face.z - ab.x - ab.y;
+    const TriangleIds n1 = {ab.x, m, z}, n2 = {m, ab.y, z};
+    if (!guard->clear({n1, n2}, {f})) continue;
+    guard->accept({n1, n2}, {f});
+    touched[f] = 1;
+    requests.push_back({SplitRequest::kEdge, edge, glm::vec3(1.0f - t, t, 0.0f)});
+    targets.push_back(glm::vec3(q));
   }
   if (!requests.empty()) apply_splits(s, tree, requests, &targets);
   return requests.size();

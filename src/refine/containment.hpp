@@ -18,12 +18,20 @@ struct TuckOptions {
   double min_edge = 0.004;  ///< boundary edges shorter than twice this (· scale) are not split
 };
 
-/// Repeats up to `passes` times: every face of S that meets B (its corners on B pulled 2% of the
-/// way to its centroid, so a rim face's own contact does not count) or whose centroid is outside
-/// B, and that has a sample point outside B, is split 1-to-3 at its deepest outside sample; the
-/// new vertex is placed at B's closest point to that sample, moved inward along B's normal by
-/// min(margin · scale, a fifth of the face's shortest edge). A split whose new faces would meet
-/// another face of S is not made. The tree records each new vertex at its sample point.
+/// Repeats up to `passes` times, each pass making the first of these kinds of splits that finds
+/// any (one split per face or edge and pass):
+/// 1. every interior edge of S with a sample outside B is split at its deepest one, the new
+///    vertex at B's closest point moved inward along B's normal by min(margin · scale, a tenth
+///    of the edge);
+/// 2. every face that meets B (its corners on B pulled 2% of the way to its centroid, so a rim
+///    face's own contact does not count) has the boundary edge whose chord reaches farthest out
+///    of B (longer than 2 · min_edge · scale) split there, or when every chord is inside B its
+///    longest boundary edge at the midpoint, the new vertex onto B;
+/// 3. every face that meets B or whose centroid is outside B, and that has a sample point
+///    outside B, is split 1-to-3 at its deepest outside sample, the new vertex placed as in 1
+///    (inward by at most a fifth of the face's shortest edge).
+/// A split whose new faces would meet another face of S is not made. The tree records each new
+/// vertex at its sample point.
 /// \return the number of splits made.
 /// \pre s valid, tree covers every vertex of s.
 std::size_t tuck_inside(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& exterior,

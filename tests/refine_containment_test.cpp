@@ -1,0 +1,73 @@
+// tuck_inside on an L-shaped prism (the notch x, y in [1, 2] is outside B): a coarse sheet whose
+// boundary edge spans the notch sticks out of B, and tucking brings it inside before the flow.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "geom/intersect.hpp"
+#include "pieces_test_support.hpp"
+#include "refine/containment.hpp"
+#include "refine/exterior.hpp"
+
+namespace fracref {
+namespace {
+
+// One face at z = 0.5: (0, 0) on B's corner edge, (2, 0.5) and (0.5, 2) on B; its edge between
+// the last two runs across the notch.
+FractureSurface sheet_over_notch() {
+  const std::vector<glm::vec4> positions = {{0.0f, 0.0f, 0.5f, 1.0f}, {2.0f, 0.5f, 0.5f, 1.0f}, {0.5f, 2.0f, 0.5f, 1.0f}};
+  return make_fracture_surface(positions, {{0, 1, 2, 0}}, {{1, 0}}, 2);
+}
+
+// How far S reaches outside B at most, sampled on a grid of each face.
+double deepest_outside(const FractureSurface& s, const ExteriorSurface& b) {
+  double worst = 0.0;
+  const int n = 16;
+  for (const glm::uvec4& f : s.faces)
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const double u = double(i) / n, v = double(j) / n;
+        const glm::dvec3 x = (1.0 - u - v) * glm::dvec3(glm::vec3(s.positions[f.x])) +
+                             u * glm::dvec3(glm::vec3(s.positions[f.y])) + v * glm::dvec3(glm::vec3(s.positions[f.z]));
+        if (!b.contains(x)) worst = std::max(worst, std::sqrt(b.squared_distance(x)));
+      }
+  return worst;
+}
+
+TEST(RefineContainment, SheetAcrossANotchIsTuckedInside) {
+  const ExteriorSurface b = make_exterior(pieces_test::voxel_surface({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 1.0), "L prism");
+  FractureSurface s = sheet_over_notch();
+  RefinementTree tree = RefinementTree::identity(s.positions.size());
+  const double before = deepest_outside(s, b);
+  ASSERT_GT(before, 0.2);  // (1.25, 1.25) is 0.25 past both walls of the notch
+  EXPECT_TRUE(face_meets_exterior(s, 0, b));
+  const std::size_t splits = tuck_inside(s, tree, b, TuckOptions{b.diagonal()});
+  EXPECT_GT(splits, 0u);
+  EXPECT_EQ(validate(s), "");
+  EXPECT_EQ(tree.parents.size(), s.positions.size());
+  const double after = deepest_outside(s, b);
+  EXPECT_LT(after, 0.1 * before) << "before " << before;
+  for (std::uint32_t v = 0; v < s.positions.size(); ++v)
+    if (s.vertex_flags[v] & kVertexBoundary) {
+      EXPECT_LT(std::sqrt(b.squared_distance(glm::dvec3(glm::vec3(s.positions[v])))), 1e-5) << v;
+    }
+  EXPECT_TRUE(find_self_intersections(double_positions(s), face_triangles(s), 1).empty());
+  // Tucking again only refines the rim further toward the notch's corner.
+  tuck_inside(s, tree, b, TuckOptions{b.diagonal()});
+  EXPECT_EQ(validate(s), "");
+  EXPECT_LE(deepest_outside(s, b), after);
+}
+
+TEST(RefineContainment, SheetInsideIsLeftAlone) {
+  const ExteriorSurface b = make_exterior(pieces_test::voxel_surface({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 1.0), "L prism");
+  const std::vector<glm::vec4> positions = {{0.0f, 0.0f, 0.5f, 1.0f}, {2.0f, 0.5f, 0.5f, 1.0f}, {0.5f, 1.0f, 0.5f, 1.0f}};
+  FractureSurface s = make_fracture_surface(positions, {{0, 1, 2, 0}}, {{1, 0}}, 2);
+  RefinementTree tree = RefinementTree::identity(s.positions.size());
+  EXPECT_FALSE(face_meets_exterior(s, 0, b));
+  EXPECT_EQ(tuck_inside(s, tree, b, TuckOptions{b.diagonal()}), 0u);
+  EXPECT_EQ(s.faces.size(), 1u);
+}
+
+}  // namespace
+}  // namespace fracref
