@@ -2,13 +2,16 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
 #include "cli_backend.hpp"
 #include "cli_progress.hpp"
+#include "batch/manifest.hpp"
 #include "pipeline/job.hpp"
+#include "scene/json_strict.hpp"
 #include "scene/scene.hpp"
 #include "scenegen/scenegen.hpp"
 #include "util/atomic_output.hpp"
@@ -42,10 +45,44 @@ int run_scene(const Scene& scene, const JobCliOptions& o, const fs::path* extra_
   return kExitOk;
 }
 
+// The scene file with the --set overrides applied (values read as JSON, else as strings).
+nlohmann::json overridden(const fs::path& file, const std::vector<std::string>& sets) {
+  std::vector<SceneOverride> overrides;
+  for (const std::string& set : sets) {
+    const std::size_t eq = set.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError("--set '" + set + "': expected KEY=VALUE, e.g. refine.tau=0.001");
+    nlohmann::json value = nlohmann::json::parse(set.substr(eq + 1), nullptr, false);
+    if (value.is_discarded()) value = set.substr(eq + 1);
+    overrides.emplace_back(set.substr(0, eq), value);
+  }
+  nlohmann::json scene = read_json_file(file);
+  apply_overrides(scene, overrides, "--set");
+  return scene;
+}
+
+// A scene file, with the --set overrides; for a demo (`rewrite`) they are written into its
+// generated file, so that OUT/input repeats the run.
+Scene load_with_overrides(const fs::path& file, const std::vector<std::string>& sets, bool rewrite) {
+  if (sets.empty()) return load_scene(file);
+  const nlohmann::json scene = overridden(file, sets);
+  Scene out;
+  try {
+    out = parse_scene(scene, file);
+  } catch (const InputError& e) {
+    // A demo's file is a temporary one: name the scene by what the user typed.
+    std::string what = e.what();
+    if (rewrite && what.rfind(file.string(), 0) == 0) what = "demo " + file.stem().string() + what.substr(file.string().size());
+    throw InputError(what + " (after --set)");
+  }
+  if (rewrite) std::ofstream(file, std::ios::binary | std::ios::trunc) << scene.dump(2) << "\n";
+  return out;
+}
+
 }  // namespace
 
 int run_refine(const JobCliOptions& o) {
-  Scene scene = load_scene(o.scene);
+  Scene scene = load_with_overrides(o.scene, o.sets, false);
   return run_scene(scene, o, nullptr);
 }
 
@@ -73,7 +110,7 @@ int run_demo(const JobCliOptions& o) {
     ~Cleanup() { std::error_code ec; fs::remove_all(p, ec); }
   } cleanup{input};
   fs::path scene_file = generate_demo_scene(o.scene, input, demo);
-  Scene scene = load_scene(scene_file);
+  Scene scene = load_with_overrides(scene_file, o.sets, true);
   return run_scene(scene, o, &input);
 }
 

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace fracref::cli {
 
@@ -15,6 +16,7 @@ struct JobCliOptions {
   int preview_frames = 0;
   bool quiet = false;
   bool list = false;          ///< demo --list
+  std::vector<std::string> sets;  ///< --set KEY=VALUE, scene keys by dotted path
 };
 
 /// \throw InputError on a bad scene, RunError on failures while running.

@@ -17,6 +17,7 @@ void add_job_options(CLI::App* sub, JobCliOptions& o) {
   sub->add_option("--stop-after", o.stop_after, "last stage to run: preprocess, refine, pieces, animate")
       ->check(CLI::IsMember({"preprocess", "refine", "pieces", "animate"}));
   sub->add_option("--preview-frames", o.preview_frames, "also render a contact sheet of N animation frames");
+  sub->add_option("--set", o.sets, "override a scene key, e.g. --set refine.tau=0.001 (repeatable)");
   sub->add_flag("-q,--quiet", o.quiet, "no progress line");
 }
 

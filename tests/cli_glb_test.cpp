@@ -14,7 +14,7 @@ namespace fs = std::filesystem;
 TEST(CliGlb, DemoWritesACheckedGlbAndCheckNamesADamagedOne) {
   TempDir t;
   const fs::path out = t.path / "branch";
-  auto r = run("demo branch -o " + out.string() + " --backend cpu -q");
+  auto r = run("demo branch -o " + out.string() + " --backend cpu -q --set refine.tau=0.002 --set refine.delta=0.004");
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string glb = slurp(out / "animation.glb");
   ASSERT_GE(glb.size(), 12u);

@@ -6,6 +6,10 @@
 #include "cube_scene.hpp"
 
 #include <sstream>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
 
@@ -99,9 +103,45 @@ TEST(CliRefine, DemoWallRefinesIntoAValidSurface) {
   // Ten pieces with junctions everywhere: the refiner validates S before it returns, so a broken
   // junction (for instance a flip folding a face past another piece's) fails this run.
   TempDir t;
-  auto r = run("demo wall -o " + (t.path / "wall").string() + " --backend cpu --stop-after refine -q");
+  // At the defaults' thresholds (the demo's finer ones take ten times longer).
+  auto r = run("demo wall -o " + (t.path / "wall").string() +
+               " --backend cpu --stop-after refine -q --set refine.tau=0.002 --set refine.delta=0.004");
   ASSERT_EQ(r.code, 0) << r.err;
   std::string report = slurp(t.path / "wall" / "report.json");
   EXPECT_NE(report.find("\"refined_triangles\""), std::string::npos);
   EXPECT_TRUE(fs::exists(t.path / "wall" / "input" / "wall.json"));
+}
+
+TEST(CliRefine, SetOverridesSceneKeysAndTheDemoInputRecordsThem) {
+  TempDir t;
+  const fs::path out = t.path / "branch";
+  auto r = run("demo branch -o " + out.string() +
+               " --backend cpu --stop-after refine -q --set refine.tau=0.004 --set refine.max_iterations=3");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(slurp(out / "report.json"));
+  EXPECT_EQ(report["iterations"].size(), 3u);
+  const nlohmann::json input = nlohmann::json::parse(slurp(out / "input" / "branch.json"));
+  EXPECT_EQ(input["refine"]["tau"], 0.004);
+  EXPECT_EQ(input["refine"]["max_iterations"], 3);
+  // The same overrides on `refine`, from the recorded input: the same surface.
+  const fs::path again = t.path / "again";
+  r = run("refine " + (out / "input" / "branch.json").string() + " -o " + again.string() +
+          " --backend cpu --stop-after refine -q --set refine.max_iterations=3");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(slurp(again / "fracture_surface.ply"), slurp(out / "fracture_surface.ply"));
+}
+
+TEST(CliRefine, BadSetIsAnInputErrorAndWritesNothing) {
+  TempDir t;
+  const fs::path out = t.path / "branch";
+  for (const auto& [set, says] : std::vector<std::pair<std::string, std::string>>{
+           {"refine.taux=1", "demo branch: key 'refine.taux': unknown key (did you mean 'tau'?)"},
+           {"refine.tau=-1", "key 'refine.tau': must be > 0"},
+           {"tau", "--set 'tau': expected KEY=VALUE"},
+           {"refine=3", "key 'refine': expected an object"}}) {
+    auto r = run("demo branch -o " + out.string() + " --backend cpu -q --set " + set);
+    EXPECT_EQ(r.code, 2) << set;
+    EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << set;
+  }
 }

@@ -253,6 +253,8 @@ TEST(ScenegenDemo, Branch) {
   const LoadedDemo d = check_demo("branch", {}, folder.path());
   EXPECT_EQ(d.scene.field.type, FieldType::branch);
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(32, 32, 64));
+  EXPECT_EQ(d.scene.refine.tau, 0.0003);
+  EXPECT_EQ(d.scene.refine.delta, 0.0006);
   ASSERT_FALSE(d.scene.fracture.cracks.empty());
   // One labelled piece and an incomplete crack, which virtual fracture completes into two pieces.
   EXPECT_EQ(d.model.piece_count, 2);
@@ -271,7 +273,9 @@ TEST(ScenegenDemo, Wall) {
   const LoadedDemo d = check_demo("wall", {}, folder.path());
   EXPECT_EQ(d.scene.field.type, FieldType::brick);
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(150, 50, 10));
-  EXPECT_EQ(d.scene.refine.tau, RefineSpec{}.tau);  // the defaults
+  // Finer split thresholds than the defaults, toward the paper's count.
+  EXPECT_EQ(d.scene.refine.tau, 0.0005);
+  EXPECT_EQ(d.scene.refine.delta, 0.001);
   ASSERT_EQ(d.scene.animation.kind, AnimationKind::rigid);
   ASSERT_EQ(d.animation.piece_transforms.size(), 48u);
   // Some pieces are knocked away, some stay where they were.
