@@ -69,5 +69,24 @@ TEST(RefineContainment, SheetInsideIsLeftAlone) {
   EXPECT_EQ(s.faces.size(), 1u);
 }
 
+// A square cross-section of the unit cube as two faces: their shared diagonal is an interior edge
+// with both ends on B, which split_rim_chords splits at its midpoint.
+TEST(RefineContainment, ChordBetweenTwoRimVerticesIsSplit) {
+  const ExteriorSurface b = make_exterior(pieces_test::voxel_surface({{0, 0, 0}}, 1.0), "cube");
+  const std::vector<glm::vec4> positions = {{0, 0, 0.5f, 1}, {1, 0, 0.5f, 1}, {1, 1, 0.5f, 1}, {0, 1, 0.5f, 1}};
+  FractureSurface s = make_fracture_surface(positions, {{0, 1, 2, 0}, {0, 2, 3, 0}}, {{1, 0}, {1, 0}}, 2);
+  RefinementTree tree = RefinementTree::identity(s.positions.size());
+  EXPECT_EQ(split_rim_chords(s, tree, b, TuckOptions{b.diagonal()}), 1u);
+  EXPECT_EQ(validate(s), "");
+  ASSERT_EQ(s.positions.size(), 5u);
+  EXPECT_EQ(s.faces.size(), 4u);
+  EXPECT_EQ(glm::vec3(s.positions[4]), glm::vec3(0.5f, 0.5f, 0.5f));  // deep inside: not moved
+  EXPECT_EQ(tree.parents[4], glm::uvec3(0, 2, 0));
+  for (std::uint32_t e = 0; e < s.edges.size(); ++e)
+    if (s.edge_special[e] != kEdgeBoundary)
+      EXPECT_FALSE((s.vertex_flags[s.edges[e].x] & kVertexBoundary) && (s.vertex_flags[s.edges[e].y] & kVertexBoundary));
+  EXPECT_EQ(split_rim_chords(s, tree, b, TuckOptions{b.diagonal()}), 0u);
+}
+
 }  // namespace
 }  // namespace fracref

@@ -24,7 +24,7 @@ Aabb FaceGuard::box_of(const TriangleIds& t) const {
   return box;
 }
 
-bool FaceGuard::clear(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced) const {
+bool FaceGuard::clear(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const {
   Aabb box;
   for (const TriangleIds& t : faces) box.expand(box_of(t));
   std::vector<std::uint32_t> hits;
@@ -39,7 +39,7 @@ bool FaceGuard::clear(std::initializer_list<TriangleIds> faces, std::initializer
   return true;
 }
 
-void FaceGuard::accept(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced) {
+void FaceGuard::accept(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) {
   for (std::uint32_t f : replaced) gone_[f] = 1;
   for (const TriangleIds& t : faces) {
     faces_.push_back(t);

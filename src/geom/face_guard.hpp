@@ -26,10 +26,16 @@ class FaceGuard {
   /// Whether `faces` (vertex ids of the mesh or added vertices) meet no face of S other than the
   /// `replaced` ones and those replaced before, nor any face accepted before (exact; faces that
   /// share vertices are judged as mesh_faces_intersect does).
-  bool clear(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced) const;
+  bool clear(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced) const {
+    return clear(std::vector<TriangleIds>(faces), std::vector<std::uint32_t>(replaced));
+  }
+  bool clear(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const;
 
   /// Records an accepted edit: `replaced` faces of the mesh are gone, `faces` exist.
-  void accept(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced);
+  void accept(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced) {
+    accept(std::vector<TriangleIds>(faces), std::vector<std::uint32_t>(replaced));
+  }
+  void accept(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced);
 
  private:
   Aabb box_of(const TriangleIds& t) const;

@@ -34,6 +34,11 @@ double shortest_edge(const FractureSurface& s, const glm::uvec4& f) {
                    glm::distance(at(s, f.z), at(s, f.x))});
 }
 
+double longest_edge(const FractureSurface& s, const glm::uvec4& f) {
+  return std::max({glm::distance(at(s, f.x), at(s, f.y)), glm::distance(at(s, f.y), at(s, f.z)),
+                   glm::distance(at(s, f.z), at(s, f.x))});
+}
+
 // The point of edge e farthest outside B, as t along it (samples off its ends, and off the
 // rim strip at an end on B), and its squared distance to B; 0 if none is outside.
 double deepest_outside_on_edge(const FractureSurface& s, std::uint32_t e, const ExteriorSurface& b, int grid, float& t) {
@@ -48,6 +53,25 @@ double deepest_outside_on_edge(const FractureSurface& s, std::uint32_t e, const 
     if (d > worst && !b.contains(x)) worst = d, t = float(u);
   }
   return worst;
+}
+
+// Whether splitting edge e at guard vertex m (every face on e in two) keeps S free of
+// intersections; if so the split is recorded in the guard. All faces on e are replaced at once:
+// m may lie on e, where each new face touches the faces on e not yet replaced.
+bool split_edge_is_clear(const FractureSurface& s, FaceGuard& guard, std::uint32_t e, std::uint32_t m) {
+  const glm::uvec2 ab = s.edges[e];
+  std::vector<TriangleIds> faces;
+  std::vector<std::uint32_t> replaced;
+  for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) {
+    const glm::uvec4 f = s.faces[s.ef_faces[k]];
+    const std::uint32_t z = f.x + f.y + f.z - ab.x - ab.y;
+    faces.push_back({ab.x, m, z});
+    faces.push_back({m, ab.y, z});
+    replaced.push_back(s.ef_faces[k]);
+  }
+  if (!guard.clear(faces, replaced)) return false;
+  guard.accept(faces, replaced);
+  return true;
 }
 
 glm::dvec3 inside_target(const ExteriorSurface& b, const glm::dvec3& x, double margin) {
@@ -70,24 +94,14 @@ std::size_t tuck_edges(FractureSurface& s, RefinementTree& tree, const ExteriorS
     if (busy || deepest_outside_on_edge(s, e, b, o.sample_grid, t) == 0.0) continue;
     const glm::uvec2 ab = s.edges[e];
     const double length = glm::distance(at(s, ab.x), at(s, ab.y));
+    if (length <= 2.0 * o.min_edge * o.scale) continue;
     const glm::dvec3 q = inside_target(b, (1.0 - t) * at(s, ab.x) + double(t) * at(s, ab.y),
                                        std::min(o.margin * o.scale, 0.1 * length));
     if (!b.contains(q)) continue;
     if (!guard) guard.emplace(double_positions(s), face_triangles(s));
     const std::uint32_t m = guard->add_vertex(q);
-    bool clear = true;
-    for (std::uint32_t k = first; k < last && clear; ++k) {
-      const glm::uvec4 f = s.faces[s.ef_faces[k]];
-      const std::uint32_t z = f.x + f.y + f.z - ab.x - ab.y;
-      clear = guard->clear({{ab.x, m, z}, {m, ab.y, z}}, {s.ef_faces[k]});
-    }
-    if (!clear) continue;
-    for (std::uint32_t k = first; k < last; ++k) {
-      const glm::uvec4 f = s.faces[s.ef_faces[k]];
-      const std::uint32_t z = f.x + f.y + f.z - ab.x - ab.y;
-      guard->accept({{ab.x, m, z}, {m, ab.y, z}}, {s.ef_faces[k]});
-      touched[s.ef_faces[k]] = 1;
-    }
+    if (!split_edge_is_clear(s, *guard, e, m)) continue;
+    for (std::uint32_t k = first; k < last; ++k) touched[s.ef_faces[k]] = 1;
     requests.push_back({SplitRequest::kEdge, e, glm::vec3(1.0f - t, t, 0.0f)});
     targets.push_back(glm::vec3(q));
   }
@@ -150,6 +164,7 @@ std::size_t tuck_faces(FractureSurface& s, RefinementTree& tree, const ExteriorS
     glm::vec3 w(0.0f);
     if (!deepest_outside(s, f, b, o.sample_grid, w)) continue;
     const glm::uvec4 face = s.faces[f];
+    if (longest_edge(s, face) <= 2.0 * o.min_edge * o.scale) continue;
     const glm::dvec3 x = double(w.x) * at(s, face.x) + double(w.y) * at(s, face.y) + double(w.z) * at(s, face.z);
     const glm::dvec3 q = inside_target(b, x, std::min(o.margin * o.scale, 0.2 * shortest_edge(s, face)));
     if (!b.contains(q)) continue;
@@ -166,6 +181,36 @@ std::size_t tuck_faces(FractureSurface& s, RefinementTree& tree, const ExteriorS
 }
 
 }  // namespace
+
+std::size_t split_rim_chords(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
+  std::vector<SplitRequest> requests;
+  std::vector<glm::vec3> targets;
+  std::optional<FaceGuard> guard;
+  std::vector<char> touched(s.faces.size(), 0);
+  for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
+    const glm::uvec2 ab = s.edges[e];
+    if (s.edge_special[e] == kEdgeBoundary || !(s.vertex_flags[ab.x] & kVertexBoundary) ||
+        !(s.vertex_flags[ab.y] & kVertexBoundary))
+      continue;
+    const std::uint32_t first = s.ef_offsets[e], last = s.ef_offsets[e + 1];
+    bool busy = false;
+    for (std::uint32_t k = first; k < last; ++k) busy = busy || touched[s.ef_faces[k]];
+    if (busy) continue;
+    const glm::dvec3 mid = 0.5 * (at(s, ab.x) + at(s, ab.y));
+    const double margin = std::min(o.margin * o.scale, 0.1 * glm::distance(at(s, ab.x), at(s, ab.y)));
+    glm::dvec3 q = mid;
+    if (!b.contains(mid) || b.squared_distance(mid) < margin * margin) q = inside_target(b, mid, margin);
+    if (!b.contains(q)) continue;
+    if (!guard) guard.emplace(double_positions(s), face_triangles(s));
+    const std::uint32_t m = guard->add_vertex(glm::dvec3(glm::vec3(q)));
+    if (!split_edge_is_clear(s, *guard, e, m)) continue;
+    for (std::uint32_t k = first; k < last; ++k) touched[s.ef_faces[k]] = 1;
+    requests.push_back({SplitRequest::kEdge, e, glm::vec3(0.5f, 0.5f, 0.0f)});
+    targets.push_back(glm::vec3(q));
+  }
+  if (!requests.empty()) apply_splits(s, tree, requests, &targets);
+  return requests.size();
+}
 
 bool face_meets_exterior(const FractureSurface& s, std::uint32_t f, const ExteriorSurface& b) {
   const glm::uvec4 face = s.faces[f];

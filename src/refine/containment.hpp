@@ -15,7 +15,7 @@ struct TuckOptions {
   double margin = 1e-3;   ///< a new vertex goes this far (· scale) inside B, at most
   int passes = 12;         ///< rounds of splits
   int sample_grid = 8;    ///< barycentric steps per side when looking for a face's part outside B
-  double min_edge = 0.004;  ///< boundary edges shorter than twice this (· scale) are not split
+  double min_edge = 0.004;  ///< edges, and faces whose edges are all, shorter than twice this (· scale) are not split
 };
 
 /// Repeats up to `passes` times, each pass making the first of these kinds of splits that finds
@@ -30,12 +30,23 @@ struct TuckOptions {
 /// 3. every face that meets B or whose centroid is outside B, and that has a sample point
 ///    outside B, is split 1-to-3 at its deepest outside sample, the new vertex placed as in 1
 ///    (inward by at most a fifth of the face's shortest edge).
-/// A split whose new faces would meet another face of S is not made. The tree records each new
+/// Edges, and faces whose every edge is, no longer than 2 · min_edge · scale are not split (near a
+/// concave corner of B the splits would otherwise pile up ever smaller faces). A split whose new
+/// faces would meet another face of S is not made. The tree records each new
 /// vertex at its sample point.
 /// \return the number of splits made.
 /// \pre s valid, tree covers every vertex of s.
 std::size_t tuck_inside(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& exterior,
                         const TuckOptions& options = {});
+
+/// Splits every interior edge of S whose two ends lie on B (a chord: the pieces stage's
+/// re-triangulation of B may join the same two vertices, and the piece would then have an edge
+/// with four faces) at its midpoint, moved inside B by min(margin · scale, a tenth of the edge)
+/// when it is outside or nearer to B than that. One pass, each face split at most once; a split
+/// whose new faces would meet another face of S is not made. Returns the number of splits.
+/// \pre s valid, tree covers every vertex of s.
+std::size_t split_rim_chords(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& exterior,
+                             const TuckOptions& options = {});
 
 /// Whether face f of S meets B away from its own corners on B (see tuck_inside).
 bool face_meets_exterior(const FractureSurface& s, std::uint32_t f, const ExteriorSurface& exterior);

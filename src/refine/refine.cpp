@@ -23,6 +23,8 @@ constexpr double kStiffFraction = 0.5;
 constexpr int kInsertBacktracks = 10;
 constexpr double kConformTolerance = 2e-4;  // of the diagonal
 constexpr int kConformPasses = 8;
+// Passes of split_rim_chords after the loop (a pass splits each face at most once).
+constexpr int kChordPasses = 4;
 
 class Refiner {
  public:
@@ -387,6 +389,9 @@ RefineResult Refiner::run(const RefineProgress& progress) {
       result.stop = RefineResult::Stop::kConverged;
       break;
     }
+  }
+  for (int pass = 0; pass < kChordPasses && split_rim_chords(s_, tree_, b_, TuckOptions{o_.scale, 1e-3, 12, 8, o_.delta}) > 0;
+       ++pass) {
   }
   // Every edit is meant to keep S valid; a violation here is a bug, and it must not reach the
   // pieces or the output files silently.
