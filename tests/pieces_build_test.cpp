@@ -259,6 +259,42 @@ TEST(PiecesRepair, HairShortBoundaryEdgeIsContracted) {
   expect_valid_pieces(set, b);
 }
 
+// Short boundary edges far apart are contracted in one go (one rebuild of S), with the same
+// result as one at a time.
+TEST(PiecesRepair, HairEdgesFarApartAreContractedTogether) {
+  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
+  const FractureSurface sheet = example_sheet(4);
+  std::vector<glm::vec4> positions = sheet.positions;
+  std::vector<glm::uvec4> faces = sheet.faces;
+  std::vector<glm::ivec2> pieces = sheet.face_pieces;
+  const auto at = [&](glm::vec3 p) {
+    return std::uint32_t(std::find(positions.begin(), positions.end(), glm::vec4(p, 1.0f)) - positions.begin());
+  };
+  // The face on boundary edge v1-v2 (either direction) gets a vertex a hair before v2.
+  const auto hair = [&](glm::vec3 p1, glm::vec3 p2) {
+    const std::uint32_t v1 = at(p1), v2 = at(p2), w = std::uint32_t(positions.size());
+    positions.emplace_back(p2 + 1e-6f * (p1 - p2), 1.0f);
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = faces[f][k], c = faces[f][(k + 1) % 3], r = faces[f][(k + 2) % 3];
+        if (!((a == v1 && c == v2) || (a == v2 && c == v1))) continue;
+        faces[f] = glm::uvec4(a, w, r, 0);
+        faces.emplace_back(w, c, r, 0);
+        pieces.push_back(pieces[f]);
+        return true;
+      }
+    return false;
+  };
+  ASSERT_TRUE(hair({1, 0, 0}, {2, 0, 0}));
+  ASSERT_TRUE(hair({1, 3, 0}, {2, 3, 0}));
+  const FractureSurface s = make_fracture_surface(positions, faces, pieces, 2);
+  const PieceSet set = build_pieces(s, b);
+  EXPECT_EQ(set.boundary_edges_merged, 2u);
+  EXPECT_EQ(set.attempts, 1u);
+  EXPECT_NEAR(piece_volume(set, 0), 9.0, 1e-12);
+  expect_valid_pieces(set, b);
+}
+
 TEST(PiecesRepair, FlapLyingOnExteriorIsLeftOut) {
   const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
   const FractureSurface sheet = example_sheet(4);

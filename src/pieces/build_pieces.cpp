@@ -125,6 +125,30 @@ struct Retries {
     return true;
   }
 
+  // After the traces of two S boundary edges crossed: the vertex they share (a zigzag of the
+  // rim), else the shorter edge, is contracted into its nearer neighbour on the rim; false when
+  // that was tried before.
+  bool next(const TracesCross& crossed, const std::vector<glm::dvec3>& x) {
+    std::set<std::uint32_t> moved;  // one contraction per rim vertex and attempt
+    bool added = false;
+    for (const auto& [a, b] : crossed.pairs) {
+      std::pair<std::uint32_t, std::uint32_t> c;
+      if (a.x == b.x || a.x == b.y || a.y == b.x || a.y == b.y) {
+        const std::uint32_t v = (a.x == b.x || a.x == b.y) ? a.x : a.y;
+        const std::uint32_t p = a.x == v ? a.y : a.x, q = b.x == v ? b.y : b.x;
+        c = {v, glm::length(x[p] - x[v]) <= glm::length(x[q] - x[v]) ? p : q};
+      } else {
+        const glm::uvec2 e = glm::length(x[a.x] - x[a.y]) <= glm::length(x[b.x] - x[b.y]) ? a : b;
+        c = {e.y, e.x};
+      }
+      if (moved.count(c.first) || moved.count(c.second) || std::count(contractions.begin(), contractions.end(), c)) continue;
+      contractions.push_back(c);
+      moved.insert(c.first), moved.insert(c.second);
+      added = true;
+    }
+    return added;
+  }
+
   // After fracture triangles crossed each other; false when a vertex is relaxed all the way.
   bool next(const Folded& folded, std::string& why) {
     std::set<std::uint32_t> gone;
@@ -580,10 +604,14 @@ PieceSet build_pieces(const FractureSurface& s, const MeshSoup& exterior, const 
   Retries retries;
   for (;; ++retries.attempts) {
     try {
-      return PieceBuilder(input, m, options, retries).run();
+      PieceSet out = PieceBuilder(input, m, options, retries).run();
+      out.attempts = std::uint32_t(retries.attempts + 1);
+      return out;
     } catch (const PokingOut& poking) {
       std::string why;
       if (!retries.next(poking, why) || retries.attempts >= kMaxAttempts) throw RunError(why.empty() ? "too many attempts" : why);
+    } catch (const TracesCross& crossed) {
+      if (!retries.next(crossed, double_positions(input)) || retries.attempts >= kMaxAttempts) throw RunError(crossed.what());
     } catch (const Folded& folded) {
       std::string why;
       if (!retries.next(folded, why) || retries.attempts >= kMaxAttempts) throw RunError(why.empty() ? "too many attempts" : why);

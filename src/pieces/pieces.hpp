@@ -30,7 +30,10 @@
 //     the neighbouring traces are farthest from the trace (within a tenth of its chord), and
 //     the trace is re-traced leg by leg through route points on B a small offset past every
 //     neighbouring point it passed on the wrong side or too closely. Repeated until no conflict
-//     is left or none can be resolved.
+//     is left or none can be resolved. Traces that still cross in a B triangle's
+//     re-triangulation (step 3) start the build again with the rim vertex the two edges share
+//     (a zigzag of the rim) contracted into its nearer neighbour, or with the shorter edge
+//     contracted, each contraction tried once.
 //  3. Insert. The crossings become new vertices shared by B and S: each cut B triangle is
 //     re-triangulated in its own barycentric plane (a constrained triangulation, exact
 //     orientation tests, Delaunay flips for shape), and each face of S on a traced edge becomes
@@ -150,7 +153,8 @@ struct PieceSet {
   std::uint32_t rim_retracted = 0;          ///< S boundary vertices moved to where S enters B (step 0)
   std::uint32_t pushed_inward = 0;          ///< S vertices off B moved inward by step 3b
   std::uint32_t relaxed = 0;                ///< S vertices off B moved toward their neighbours (step 3c)
-  std::uint32_t contracted = 0;             ///< S edges at a fold contracted (step 3c; the removed
+  std::uint32_t attempts = 1;               ///< builds made (the last succeeded; see steps 3 to 3c)
+  std::uint32_t contracted = 0;             ///< S edges at a fold or a crossing of traces contracted (step 3c; the removed
                                             ///< end stays in positions, unused)
   std::uint32_t traces_rerouted = 0;        ///< route points added by step 2b (each a
                                             ///< RoutePoint, a CrossingPoint or a B vertex)

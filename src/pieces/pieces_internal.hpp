@@ -15,6 +15,7 @@
 #include "geom/bvh.hpp"
 #include "io/mesh_soup.hpp"
 #include "surface/fracture_surface.hpp"
+#include "util/error.hpp"
 
 namespace fracref::pieces_detail {
 
@@ -191,9 +192,18 @@ struct ExteriorCut {
   std::vector<Segment> segments;
 };
 
+/// Thrown by cut_exterior when the traces of two S boundary edges cross in a B triangle.
+struct TracesCross : RunError {
+  TracesCross(const std::string& what, std::vector<std::array<glm::uvec2, 2>> crossing)
+      : RunError(what), pairs(std::move(crossing)) {}
+  std::vector<std::array<glm::uvec2, 2>> pairs;  ///< per B triangle, two S boundary edges (s_from, s_to)
+};
+
 /// Re-triangulates every B triangle the cut touches (the others keep their corners) and
 /// returns all triangles of the cut B on global ids, in B's triangle order.
-/// \throw RunError naming the B triangle when its cut cannot be triangulated.
+/// \throw TracesCross naming the first such B triangle, with a crossing pair of S boundary
+///        edges from every B triangle where two traces cross properly (all triangles are cut
+///        first); RunError naming the B triangle when its cut cannot be triangulated otherwise.
 std::vector<std::array<std::uint32_t, 3>> cut_exterior(const ExteriorMesh& m, ExteriorCut& cut,
                                                        const std::vector<glm::dvec3>& positions, bool delaunay);
 

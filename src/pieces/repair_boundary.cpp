@@ -45,33 +45,6 @@ bool clear_of_the_rest(const std::vector<glm::dvec3>& x, const std::vector<glm::
   return true;
 }
 
-// Edge gone-keep contracted into keep: the faces on it vanish, the others of the removed end
-// move to the kept one. Refused when a moved face would then cut through S (the
-// faces around the removed end swing over to the kept one, across whatever lies between).
-bool contract(FractureSurface& s, std::vector<std::uint32_t>& origin, std::uint32_t gone, std::uint32_t keep) {
-  std::vector<glm::uvec4> faces;
-  std::vector<glm::ivec2> pieces;
-  std::vector<std::uint32_t> new_origin, changed;
-  for (std::size_t f = 0; f < s.faces.size(); ++f) {
-    glm::uvec4 t = s.faces[f];
-    for (int k = 0; k < 3; ++k)
-      if (t[k] == gone) t[k] = keep;
-    if (t.x == t.y || t.y == t.z || t.z == t.x) continue;
-    if (t != s.faces[f]) changed.push_back(std::uint32_t(faces.size()));
-    faces.push_back(t);
-    pieces.push_back(s.face_pieces[f]);
-    new_origin.push_back(origin[f]);
-  }
-  if (!clear_of_the_rest(double_positions(s), faces, changed)) return false;
-  return try_faces(s, std::move(faces), std::move(pieces), origin, std::move(new_origin));
-}
-
-// The end that is kVertexOriginal, else a, is kept.
-bool collapse(FractureSurface& s, std::vector<std::uint32_t>& origin, std::uint32_t a, std::uint32_t b) {
-  const bool keep_b = (s.vertex_flags[b] & kVertexOriginal) && !(s.vertex_flags[a] & kVertexOriginal);
-  return keep_b ? contract(s, origin, a, b) : contract(s, origin, b, a);
-}
-
 bool remove_face(FractureSurface& s, std::vector<std::uint32_t>& origin, std::uint32_t face) {
   std::vector<glm::uvec4> faces = s.faces;
   std::vector<glm::ivec2> pieces = s.face_pieces;
@@ -84,7 +57,44 @@ bool remove_face(FractureSurface& s, std::vector<std::uint32_t>& origin, std::ui
 
 glm::dvec3 at(const FractureSurface& s, std::uint32_t v) { return glm::dvec3(glm::vec3(s.positions[v])); }
 
+// The end of boundary edge a-b that a collapse keeps: the kVertexOriginal one, else a.
+std::pair<std::uint32_t, std::uint32_t> gone_and_kept(const FractureSurface& s, std::uint32_t a, std::uint32_t b) {
+  const bool keep_b = (s.vertex_flags[b] & kVertexOriginal) && !(s.vertex_flags[a] & kVertexOriginal);
+  return keep_b ? std::pair{a, b} : std::pair{b, a};
+}
+
+// Contractions (gone, keep) made together: faces re-pointed, the degenerate ones dropped; false,
+// changing nothing, when a moved face would meet another face or S would be invalid.
+bool contract_all(FractureSurface& s, std::vector<std::uint32_t>& origin,
+                  const std::vector<std::pair<std::uint32_t, std::uint32_t>>& batch) {
+  std::vector<std::uint32_t> to(s.positions.size());
+  for (std::uint32_t v = 0; v < to.size(); ++v) to[v] = v;
+  for (const auto& [gone, keep] : batch) to[gone] = keep;
+  std::vector<glm::uvec4> faces;
+  std::vector<glm::ivec2> pieces;
+  std::vector<std::uint32_t> new_origin, changed;
+  for (std::size_t f = 0; f < s.faces.size(); ++f) {
+    const glm::uvec4 t(to[s.faces[f].x], to[s.faces[f].y], to[s.faces[f].z], s.faces[f].w);
+    if (t.x == t.y || t.y == t.z || t.z == t.x) continue;
+    if (t != s.faces[f]) changed.push_back(std::uint32_t(faces.size()));
+    faces.push_back(t);
+    pieces.push_back(s.face_pieces[f]);
+    new_origin.push_back(origin[f]);
+  }
+  if (!clear_of_the_rest(double_positions(s), faces, changed)) return false;
+  return try_faces(s, std::move(faces), std::move(pieces), origin, std::move(new_origin));
+}
+
+// Edge gone-keep contracted into keep: the faces on it vanish, the others of the removed end
+// move to the kept one. Refused when a moved face would then cut through S (the faces around the
+// removed end swing over to the kept one, across whatever lies between).
+bool contract(FractureSurface& s, std::vector<std::uint32_t>& origin, std::uint32_t gone, std::uint32_t keep) {
+  return contract_all(s, origin, {{gone, keep}});
+}
+
 // One pass over the boundary edges shorter than min_length, shortest first; true if any went.
+// Every rebuild and validation of S costs a pass over all of it, so the collapses whose
+// neighbourhoods do not touch are made together; only when that fails are they made one by one.
 bool collapse_pass(FractureSurface& s, std::vector<std::uint32_t>& origin, double min_length, std::uint32_t& count) {
   const std::uint32_t before = count;
   std::vector<std::pair<double, glm::uvec2>> shortest;
@@ -95,10 +105,28 @@ bool collapse_pass(FractureSurface& s, std::vector<std::uint32_t>& origin, doubl
   std::sort(shortest.begin(), shortest.end(), [](const auto& x, const auto& y) {
     return x.first < y.first || (x.first == y.first && (x.second.x < y.second.x || (x.second.x == y.second.x && x.second.y < y.second.y)));
   });
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> batch;
+  std::vector<char> busy(s.positions.size(), 0);
+  auto ring = [&](std::uint32_t v, auto&& visit) {
+    for (std::uint32_t k = s.vf_offsets[v]; k < s.vf_offsets[v + 1]; ++k)
+      for (int c = 0; c < 3; ++c) visit(s.faces[s.vf_faces[k]][c]);
+  };
+  for (const auto& [len, e] : shortest) {
+    bool free = true;
+    for (std::uint32_t v : {e.x, e.y}) ring(v, [&](std::uint32_t w) { free = free && !busy[w]; });
+    if (!free) continue;
+    for (std::uint32_t v : {e.x, e.y}) ring(v, [&](std::uint32_t w) { busy[w] = 1; });
+    batch.push_back(gone_and_kept(s, e.x, e.y));
+  }
+  if (batch.size() > 1 && contract_all(s, origin, batch)) {
+    count += std::uint32_t(batch.size());
+    return true;
+  }
   for (const auto& [len, e] : shortest) {
     const std::uint32_t id = find_edge(s, e.x, e.y);  // earlier collapses may have removed it
     if (id == kNoEdge || s.edge_special[id] != kEdgeBoundary) continue;
-    if (collapse(s, origin, e.x, e.y)) ++count;
+    const auto [gone, keep] = gone_and_kept(s, e.x, e.y);
+    if (contract(s, origin, gone, keep)) ++count;
   }
   return count != before;
 }
