@@ -50,10 +50,11 @@ FractureSurface checked(const FractureSurface& s) {
 // face left out when it has two or three boundary edges (a flap: all its corners lie on B), or
 // with its boundary edge traced along the face's normal when it has one.
 struct UntriangulatedFace : RunError {
-  UntriangulatedFace(const std::string& what, std::uint32_t input_face, bool is_flap)
-      : RunError(what), face(input_face), flap(is_flap) {}
+  UntriangulatedFace(const std::string& what, std::uint32_t input_face, bool is_flap, glm::uvec2 rim_edge)
+      : RunError(what), face(input_face), flap(is_flap), boundary_edge(rim_edge) {}
   std::uint32_t face;
   bool flap;
+  glm::uvec2 boundary_edge;  // S vertices of its boundary edge (one boundary side)
 };
 
 // Fracture triangles poking out of B: build_pieces starts again with their S vertices off B
@@ -104,9 +105,19 @@ struct Retries {
       along_normal.emplace(failed.face, push_rounds);
       return true;
     }
-    if (it->second == push_rounds) return false;
-    along_normal.erase(it);  // S was pushed since: the usual plane may do now
-    return true;
+    if (it->second != push_rounds) {
+      along_normal.erase(it);  // S was pushed since: the usual plane may do now
+      return true;
+    }
+    // Neither plane works (the face stands at a slant to a curved B): its boundary edge is
+    // contracted, the face with it.
+    for (const std::pair<std::uint32_t, std::uint32_t> c :
+         {std::pair{failed.boundary_edge.y, failed.boundary_edge.x}, std::pair{failed.boundary_edge.x, failed.boundary_edge.y}})
+      if (!std::count(contractions.begin(), contractions.end(), c)) {
+        contractions.push_back(c);
+        return true;
+      }
+    return false;
   }
 
   // After fracture triangles poked out of B; false when a vertex would go too far.
@@ -376,6 +387,14 @@ class PieceBuilder {
     }
   }
 
+  // The vertices of face f's first boundary edge, in its winding.
+  glm::uvec2 boundary_edge_of(std::uint32_t f) const {
+    for (int k = 0; k < 3; ++k)
+      if (s_.edge_special[s_.face_edges[3 * f + std::uint32_t(k)]] == kEdgeBoundary)
+        return {s_.faces[f][k], s_.faces[f][(k + 1) % 3]};
+    return {0, 0};
+  }
+
   int boundary_sides(std::uint32_t f) const {
     int n = 0;
     for (int k = 0; k < 3; ++k) n += s_.edge_special[s_.face_edges[3 * f + std::uint32_t(k)]] == kEdgeBoundary;
@@ -413,7 +432,8 @@ class PieceBuilder {
         const std::string what = "fracture surface face " + std::to_string(repair_.face_origin[f]) + " near " +
                                  format_point(xyz[0]) + ": cannot insert the traced boundary points: " + err.what();
         const int sides = boundary_sides(f);
-        if (sides == 1 || (sides >= 2 && options_.remove_flaps)) throw UntriangulatedFace(what, repair_.face_origin[f], sides >= 2);
+        if (sides == 1 || (sides >= 2 && options_.remove_flaps))
+          throw UntriangulatedFace(what, repair_.face_origin[f], sides >= 2, boundary_edge_of(f));
         throw RunError(what);
       }
       if (result.centre_added) {
