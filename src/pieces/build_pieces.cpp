@@ -64,6 +64,7 @@ struct PokingOut : RunError {
   struct Vertex {
     double depth, limit;
     glm::dvec3 at;
+    std::uint32_t nearest = 0;  // the neighbour at its shortest edge
   };
   explicit PokingOut(std::map<std::uint32_t, Vertex> v) : RunError("poking out"), vertices(std::move(v)) {}
   std::map<std::uint32_t, Vertex> vertices;
@@ -125,12 +126,18 @@ struct Retries {
     for (const auto& [v, p] : poking.vertices) {
       double& push = pushed[v];
       push += kPushFactor * p.depth;
-      if (push > p.limit || push_rounds >= kMaxPushRounds) {
+      if (push <= p.limit && push_rounds < kMaxPushRounds) continue;
+      // Pushed as far as it may go: the vertex is contracted into its nearest neighbour instead
+      // (a sliver of S sticking out), once.
+      const std::pair<std::uint32_t, std::uint32_t> c{v, p.nearest};
+      if (std::count(contractions.begin(), contractions.end(), c)) {
         why = "the faces of fracture surface vertex " + std::to_string(v) + " at " + format_point(p.at) +
               " poke out of the exterior by " + std::to_string(p.depth) +
               " (the fracture surface crosses the exterior near its rim), still after pushing it inward";
         return false;
       }
+      contractions.push_back(c);
+      pushed.erase(v);
     }
     ++push_rounds;
     return true;
@@ -453,7 +460,7 @@ class PieceBuilder {
     if (poking.empty()) return;
     std::map<std::uint32_t, PokingOut::Vertex> vertices;
     for (const auto& [v, depth] : poking) vertices[v] = {depth, std::numeric_limits<double>::infinity(), out_.positions[v]};
-    for (auto& [v, p] : vertices) p.limit = kMaxPush * shortest_edge(v);
+    for (auto& [v, p] : vertices) p.limit = kMaxPush * shortest_edge(v, &p.nearest);
     throw PokingOut(std::move(vertices));
   }
 
@@ -480,8 +487,11 @@ class PieceBuilder {
     if (c.pairs == 0) return;
     if (!c.poking.empty()) {
       std::map<std::uint32_t, PokingOut::Vertex> vertices;
-      for (std::uint32_t v : c.poking)
-        vertices[v] = {kClashPush * shortest_edge(v), kMaxPush * shortest_edge(v), out_.positions[v]};
+      for (std::uint32_t v : c.poking) {
+        std::uint32_t nearest = 0;
+        const double shortest = shortest_edge(v, &nearest);
+        vertices[v] = {kClashPush * shortest, kMaxPush * shortest, out_.positions[v], nearest};
+      }
       throw PokingOut(std::move(vertices));
     }
     auto describe = [&](int k) {

@@ -50,7 +50,8 @@
 //     with its S vertices off B pushed into B along the normal of B's nearest triangle, a
 //     quarter farther than each alone would have to go to take the deepest poke back, at most
 //     the vertex's shortest edge over 8 rounds, and only while S stays free of
-//     self-intersections. (Step 0 already moved every rim vertex whose inner edge leaves it
+//     self-intersections; a vertex that would have to go farther is contracted into its nearest
+//     neighbour instead (once). (Step 0 already moved every rim vertex whose inner edge leaves it
 //     outside B to where that edge enters B, unless S would then cross itself.)
 // 3c. Clashes. The fracture triangles and the cut B triangles are tested for intersections
 //     exactly (the grid of 3b can miss a thin poke). A fracture triangle through a B triangle
