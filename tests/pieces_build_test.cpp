@@ -226,31 +226,35 @@ TEST(PiecesDeterminism, SameInputSameOutput) {
 
 // Refined surfaces come with boundary vertices a hair apart and faces lying flat on B; both are
 // repaired before the cut.
+// The face of `faces` on boundary edge p1-p2 (either direction) split by a new vertex a hair
+// before p2: (v1, w, r) and the sliver (w, v2, r). False when there is no such face.
+bool insert_hair_vertex(std::vector<glm::vec4>& positions, std::vector<glm::uvec4>& faces, std::vector<glm::ivec2>& pieces,
+                        glm::vec3 p1, glm::vec3 p2) {
+  const auto at = [&](glm::vec3 p) {
+    return std::uint32_t(std::find(positions.begin(), positions.end(), glm::vec4(p, 1.0f)) - positions.begin());
+  };
+  const std::uint32_t v1 = at(p1), v2 = at(p2), w = std::uint32_t(positions.size());
+  positions.emplace_back(p2 + 1e-6f * (p1 - p2), 1.0f);
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = faces[f][k], c = faces[f][(k + 1) % 3], r = faces[f][(k + 2) % 3];
+      if (!((a == v1 && c == v2) || (a == v2 && c == v1))) continue;
+      faces[f] = glm::uvec4(a, w, r, 0);
+      faces.emplace_back(w, c, r, 0);
+      pieces.push_back(pieces[f]);
+      return true;
+    }
+  return false;
+}
+
 TEST(PiecesRepair, HairShortBoundaryEdgeIsContracted) {
   const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
   const FractureSurface sheet = example_sheet(4);
   std::vector<glm::vec4> positions = sheet.positions;
   std::vector<glm::uvec4> faces = sheet.faces;
   std::vector<glm::ivec2> pieces = sheet.face_pieces;
-  // Face (v1, v2, r) on the boundary edge y = 0 from (1,0,0) to (2,0,0) gets a vertex w a hair
-  // before v2: (v1, w, r) and the sliver (w, v2, r).
-  const auto at = [&](glm::vec3 p) {
-    return std::uint32_t(std::find(positions.begin(), positions.end(), glm::vec4(p, 1.0f)) - positions.begin());
-  };
-  const std::uint32_t v1 = at({1, 0, 0}), v2 = at({2, 0, 0}), w = std::uint32_t(positions.size());
-  positions.emplace_back(2.0f - 1e-6f, 0.0f, 0.0f, 1.0f);
-  bool split = false;
-  for (std::size_t f = 0; f < faces.size() && !split; ++f)
-    for (int k = 0; k < 3; ++k)
-      if (faces[f][k] == v1 && faces[f][(k + 1) % 3] == v2) {
-        const std::uint32_t r = faces[f][(k + 2) % 3];
-        faces[f] = glm::uvec4(v1, w, r, 0);
-        faces.emplace_back(w, v2, r, 0);
-        pieces.push_back(pieces[f]);
-        split = true;
-        break;
-      }
-  ASSERT_TRUE(split);
+  // On the boundary edge y = 0 from (1,0,0) to (2,0,0).
+  ASSERT_TRUE(insert_hair_vertex(positions, faces, pieces, {1, 0, 0}, {2, 0, 0}));
   const FractureSurface s = make_fracture_surface(positions, faces, pieces, 2);
   const PieceSet set = build_pieces(s, b);
   EXPECT_EQ(set.boundary_edges_merged, 1u);
@@ -267,26 +271,8 @@ TEST(PiecesRepair, HairEdgesFarApartAreContractedTogether) {
   std::vector<glm::vec4> positions = sheet.positions;
   std::vector<glm::uvec4> faces = sheet.faces;
   std::vector<glm::ivec2> pieces = sheet.face_pieces;
-  const auto at = [&](glm::vec3 p) {
-    return std::uint32_t(std::find(positions.begin(), positions.end(), glm::vec4(p, 1.0f)) - positions.begin());
-  };
-  // The face on boundary edge v1-v2 (either direction) gets a vertex a hair before v2.
-  const auto hair = [&](glm::vec3 p1, glm::vec3 p2) {
-    const std::uint32_t v1 = at(p1), v2 = at(p2), w = std::uint32_t(positions.size());
-    positions.emplace_back(p2 + 1e-6f * (p1 - p2), 1.0f);
-    for (std::size_t f = 0; f < faces.size(); ++f)
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t a = faces[f][k], c = faces[f][(k + 1) % 3], r = faces[f][(k + 2) % 3];
-        if (!((a == v1 && c == v2) || (a == v2 && c == v1))) continue;
-        faces[f] = glm::uvec4(a, w, r, 0);
-        faces.emplace_back(w, c, r, 0);
-        pieces.push_back(pieces[f]);
-        return true;
-      }
-    return false;
-  };
-  ASSERT_TRUE(hair({1, 0, 0}, {2, 0, 0}));
-  ASSERT_TRUE(hair({1, 3, 0}, {2, 3, 0}));
+  ASSERT_TRUE(insert_hair_vertex(positions, faces, pieces, {1, 0, 0}, {2, 0, 0}));
+  ASSERT_TRUE(insert_hair_vertex(positions, faces, pieces, {1, 3, 0}, {2, 3, 0}));
   const FractureSurface s = make_fracture_surface(positions, faces, pieces, 2);
   const PieceSet set = build_pieces(s, b);
   EXPECT_EQ(set.boundary_edges_merged, 2u);

@@ -55,24 +55,75 @@ double deepest_outside_on_edge(const FractureSurface& s, std::uint32_t e, const 
   return worst;
 }
 
-// Whether splitting edge e at guard vertex m (every face on e in two) keeps S free of
-// intersections; if so the split is recorded in the guard. All faces on e are replaced at once:
-// m may lie on e, where each new face touches the faces on e not yet replaced.
-bool split_edge_is_clear(const FractureSurface& s, FaceGuard& guard, std::uint32_t e, std::uint32_t m) {
-  const glm::uvec2 ab = s.edges[e];
-  std::vector<TriangleIds> faces;
-  std::vector<std::uint32_t> replaced;
-  for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) {
-    const glm::uvec4 f = s.faces[s.ef_faces[k]];
-    const std::uint32_t z = f.x + f.y + f.z - ab.x - ab.y;
-    faces.push_back({ab.x, m, z});
-    faces.push_back({m, ab.y, z});
-    replaced.push_back(s.ef_faces[k]);
+// Splits gathered in one pass: each face at most once, each checked with a FaceGuard over S and
+// the pass's earlier splits; made together by apply().
+class SplitBatch {
+ public:
+  explicit SplitBatch(const FractureSurface& s) : s_(s), touched_(s.faces.size(), 0) {}
+
+  bool busy_edge(std::uint32_t e) const {
+    for (std::uint32_t k = s_.ef_offsets[e]; k < s_.ef_offsets[e + 1]; ++k)
+      if (touched_[s_.ef_faces[k]]) return true;
+    return false;
   }
-  if (!guard.clear(faces, replaced)) return false;
-  guard.accept(faces, replaced);
-  return true;
-}
+  bool busy_face(std::uint32_t f) const { return touched_[f] != 0; }
+
+  // Queues edge e split at t (its vertex at q) unless a face on e is taken or the new faces
+  // would meet another face of S. All faces on e are replaced at once: with q on e, each new
+  // face touches the faces on e not yet replaced.
+  bool add_edge(std::uint32_t e, float t, const glm::dvec3& q) {
+    if (busy_edge(e)) return false;
+    const glm::uvec2 ab = s_.edges[e];
+    const std::uint32_t m = guard().add_vertex(glm::dvec3(glm::vec3(q)));
+    std::vector<TriangleIds> faces;
+    std::vector<std::uint32_t> replaced;
+    for (std::uint32_t k = s_.ef_offsets[e]; k < s_.ef_offsets[e + 1]; ++k) {
+      const glm::uvec4 f = s_.faces[s_.ef_faces[k]];
+      const std::uint32_t z = f.x + f.y + f.z - ab.x - ab.y;
+      faces.push_back({ab.x, m, z});
+      faces.push_back({m, ab.y, z});
+      replaced.push_back(s_.ef_faces[k]);
+    }
+    if (!guard().clear(faces, replaced)) return false;
+    guard().accept(faces, replaced);
+    for (std::uint32_t f : replaced) touched_[f] = 1;
+    requests_.push_back({SplitRequest::kEdge, e, glm::vec3(1.0f - t, t, 0.0f)});
+    targets_.push_back(glm::vec3(q));
+    return true;
+  }
+
+  // Queues face f split 1-to-3 at barycentric w (its vertex at q), unless taken or not clear.
+  bool add_face(std::uint32_t f, const glm::vec3& w, const glm::dvec3& q) {
+    if (busy_face(f)) return false;
+    const glm::uvec4 face = s_.faces[f];
+    const std::uint32_t m = guard().add_vertex(glm::dvec3(glm::vec3(q)));
+    const TriangleIds n1 = {face.x, face.y, m}, n2 = {face.y, face.z, m}, n3 = {face.z, face.x, m};
+    if (!guard().clear({n1, n2, n3}, {f})) return false;
+    guard().accept({n1, n2, n3}, {f});
+    touched_[f] = 1;
+    requests_.push_back({SplitRequest::kFace, f, w});
+    targets_.push_back(glm::vec3(q));
+    return true;
+  }
+
+  // Makes the queued splits; returns how many.
+  std::size_t apply(FractureSurface& s, RefinementTree& tree) {
+    if (!requests_.empty()) apply_splits(s, tree, requests_, &targets_);
+    return requests_.size();
+  }
+
+ private:
+  FaceGuard& guard() {  // built on the first candidate: most passes split little
+    if (!guard_) guard_.emplace(double_positions(s_), face_triangles(s_));
+    return *guard_;
+  }
+
+  const FractureSurface& s_;
+  std::vector<char> touched_;
+  std::optional<FaceGuard> guard_;
+  std::vector<SplitRequest> requests_;
+  std::vector<glm::vec3> targets_;
+};
 
 glm::dvec3 inside_target(const ExteriorSurface& b, const glm::dvec3& x, double margin) {
   const ClosestPoint cp = closest_point(b.bvh, x);
@@ -81,32 +132,19 @@ glm::dvec3 inside_target(const ExteriorSurface& b, const glm::dvec3& x, double m
 
 // Splits of the interior edges that leave B; returns the number of splits.
 std::size_t tuck_edges(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
-  std::vector<SplitRequest> requests;
-  std::vector<glm::vec3> targets;
-  std::optional<FaceGuard> guard;
-  std::vector<char> touched(s.faces.size(), 0);
+  SplitBatch batch(s);
   for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
-    if (s.edge_special[e] == kEdgeBoundary) continue;
-    const std::uint32_t first = s.ef_offsets[e], last = s.ef_offsets[e + 1];
-    bool busy = false;
-    for (std::uint32_t k = first; k < last; ++k) busy = busy || touched[s.ef_faces[k]];
     float t = 0.0f;
-    if (busy || deepest_outside_on_edge(s, e, b, o.sample_grid, t) == 0.0) continue;
+    if (s.edge_special[e] == kEdgeBoundary || batch.busy_edge(e) || deepest_outside_on_edge(s, e, b, o.sample_grid, t) == 0.0)
+      continue;
     const glm::uvec2 ab = s.edges[e];
     const double length = glm::distance(at(s, ab.x), at(s, ab.y));
     if (length <= 2.0 * o.min_edge * o.scale) continue;
     const glm::dvec3 q = inside_target(b, (1.0 - t) * at(s, ab.x) + double(t) * at(s, ab.y),
                                        std::min(o.margin * o.scale, 0.1 * length));
-    if (!b.contains(q)) continue;
-    if (!guard) guard.emplace(double_positions(s), face_triangles(s));
-    const std::uint32_t m = guard->add_vertex(q);
-    if (!split_edge_is_clear(s, *guard, e, m)) continue;
-    for (std::uint32_t k = first; k < last; ++k) touched[s.ef_faces[k]] = 1;
-    requests.push_back({SplitRequest::kEdge, e, glm::vec3(1.0f - t, t, 0.0f)});
-    targets.push_back(glm::vec3(q));
+    if (b.contains(q)) batch.add_edge(e, t, q);
   }
-  if (!requests.empty()) apply_splits(s, tree, requests, &targets);
-  return requests.size();
+  return batch.apply(s, tree);
 }
 
 // A rim face can meet B because its boundary edge's chord runs outside a concave B: the edge
@@ -115,50 +153,31 @@ std::size_t tuck_edges(FractureSurface& s, RefinementTree& tree, const ExteriorS
 // with every chord inside has its longest boundary edge split at the midpoint: a finer rim
 // follows B more closely. Returns the number of splits.
 std::size_t tuck_rim_edges(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
-  std::vector<SplitRequest> requests;
-  std::vector<glm::vec3> targets;
-  std::optional<FaceGuard> guard;
-  std::vector<char> touched(s.faces.size(), 0);
+  SplitBatch batch(s);
   for (std::uint32_t f = 0; f < s.faces.size(); ++f) {
-    if (touched[f] || !face_meets_exterior(s, f, b)) continue;
+    if (batch.busy_face(f) || !face_meets_exterior(s, f, b)) continue;
     std::uint32_t edge = kNoEdge, longest = kNoEdge;
     double deepest = 0.0, longest_length = 0.0;
-    float t = 0.5f;
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t e = s.face_edges[3 * f + k];
-      const glm::uvec2 ab = s.edges[e];
-      const double length = glm::distance(at(s, ab.x), at(s, ab.y));
-      float te = 0.5f;
+      const double length = glm::distance(at(s, s.edges[e].x), at(s, s.edges[e].y));
+      float t = 0.5f;
       if (s.edge_special[e] != kEdgeBoundary || length <= 2.0 * o.min_edge * o.scale) continue;
       if (length > longest_length) longest_length = length, longest = e;
-      const double d = deepest_outside_on_edge(s, e, b, o.sample_grid, te);
-      if (d > deepest) deepest = d, edge = e, t = te;
+      const double d = deepest_outside_on_edge(s, e, b, o.sample_grid, t);
+      if (d > deepest) deepest = d, edge = e;
     }
     if (edge == kNoEdge) edge = longest;  // the face meets B off its chords: refine its rim
-    t = 0.5f;
     if (edge == kNoEdge) continue;
     const glm::uvec2 ab = s.edges[edge];
-    const glm::dvec3 q = b.closest_point((1.0 - t) * at(s, ab.x) + double(t) * at(s, ab.y));
-    if (!guard) guard.emplace(double_positions(s), face_triangles(s));
-    const std::uint32_t m = guard->add_vertex(glm::dvec3(glm::vec3(q)));
-    const glm::uvec4 face = s.faces[f];
-    const std::uint32_t z = face.x + face.y + face.z - ab.x - ab.y;
-    const TriangleIds n1 = {ab.x, m, z}, n2 = {m, ab.y, z};
-    if (!guard->clear({n1, n2}, {f})) continue;
-    guard->accept({n1, n2}, {f});
-    touched[f] = 1;
-    requests.push_back({SplitRequest::kEdge, edge, glm::vec3(1.0f - t, t, 0.0f)});
-    targets.push_back(glm::vec3(q));
+    batch.add_edge(edge, 0.5f, b.closest_point(0.5 * (at(s, ab.x) + at(s, ab.y))));
   }
-  if (!requests.empty()) apply_splits(s, tree, requests, &targets);
-  return requests.size();
+  return batch.apply(s, tree);
 }
 
 // Splits of the faces whose inside leaves B; returns the number of splits.
 std::size_t tuck_faces(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
-  std::vector<SplitRequest> requests;
-  std::vector<glm::vec3> targets;
-  std::optional<FaceGuard> guard;
+  SplitBatch batch(s);
   for (std::uint32_t f = 0; f < s.faces.size(); ++f) {
     if (!face_meets_exterior(s, f, b)) continue;
     glm::vec3 w(0.0f);
@@ -167,49 +186,27 @@ std::size_t tuck_faces(FractureSurface& s, RefinementTree& tree, const ExteriorS
     if (longest_edge(s, face) <= 2.0 * o.min_edge * o.scale) continue;
     const glm::dvec3 x = double(w.x) * at(s, face.x) + double(w.y) * at(s, face.y) + double(w.z) * at(s, face.z);
     const glm::dvec3 q = inside_target(b, x, std::min(o.margin * o.scale, 0.2 * shortest_edge(s, face)));
-    if (!b.contains(q)) continue;
-    if (!guard) guard.emplace(double_positions(s), face_triangles(s));
-    const std::uint32_t m = guard->add_vertex(q);
-    const TriangleIds n1 = {face.x, face.y, m}, n2 = {face.y, face.z, m}, n3 = {face.z, face.x, m};
-    if (!guard->clear({n1, n2, n3}, {f})) continue;
-    guard->accept({n1, n2, n3}, {f});
-    requests.push_back({SplitRequest::kFace, f, w});
-    targets.push_back(glm::vec3(q));
+    if (b.contains(q)) batch.add_face(f, w, q);
   }
-  if (!requests.empty()) apply_splits(s, tree, requests, &targets);
-  return requests.size();
+  return batch.apply(s, tree);
 }
 
 }  // namespace
 
 std::size_t split_rim_chords(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
-  std::vector<SplitRequest> requests;
-  std::vector<glm::vec3> targets;
-  std::optional<FaceGuard> guard;
-  std::vector<char> touched(s.faces.size(), 0);
+  SplitBatch batch(s);
   for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
     const glm::uvec2 ab = s.edges[e];
     if (s.edge_special[e] == kEdgeBoundary || !(s.vertex_flags[ab.x] & kVertexBoundary) ||
-        !(s.vertex_flags[ab.y] & kVertexBoundary))
+        !(s.vertex_flags[ab.y] & kVertexBoundary) || batch.busy_edge(e))
       continue;
-    const std::uint32_t first = s.ef_offsets[e], last = s.ef_offsets[e + 1];
-    bool busy = false;
-    for (std::uint32_t k = first; k < last; ++k) busy = busy || touched[s.ef_faces[k]];
-    if (busy) continue;
     const glm::dvec3 mid = 0.5 * (at(s, ab.x) + at(s, ab.y));
     const double margin = std::min(o.margin * o.scale, 0.1 * glm::distance(at(s, ab.x), at(s, ab.y)));
     glm::dvec3 q = mid;
     if (!b.contains(mid) || b.squared_distance(mid) < margin * margin) q = inside_target(b, mid, margin);
-    if (!b.contains(q)) continue;
-    if (!guard) guard.emplace(double_positions(s), face_triangles(s));
-    const std::uint32_t m = guard->add_vertex(glm::dvec3(glm::vec3(q)));
-    if (!split_edge_is_clear(s, *guard, e, m)) continue;
-    for (std::uint32_t k = first; k < last; ++k) touched[s.ef_faces[k]] = 1;
-    requests.push_back({SplitRequest::kEdge, e, glm::vec3(0.5f, 0.5f, 0.0f)});
-    targets.push_back(glm::vec3(q));
+    if (b.contains(q)) batch.add_edge(e, 0.5f, q);
   }
-  if (!requests.empty()) apply_splits(s, tree, requests, &targets);
-  return requests.size();
+  return batch.apply(s, tree);
 }
 
 bool face_meets_exterior(const FractureSurface& s, std::uint32_t f, const ExteriorSurface& b) {
