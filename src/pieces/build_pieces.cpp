@@ -144,25 +144,35 @@ struct Retries {
   }
 
   // After the traces of two S boundary edges crossed: the vertex they share (a zigzag of the
-  // rim), else the shorter edge, is contracted into its nearer neighbour on the rim; false when
-  // that was tried before.
+  // rim) is contracted into a neighbour on the rim, else an end of one edge into the other (the
+  // shorter edge first; a trace crossing itself, its edge); false when every such contraction
+  // was tried before.
   bool next(const TracesCross& crossed, const std::vector<glm::dvec3>& x) {
     std::set<std::uint32_t> moved;  // one contraction per rim vertex and attempt
     bool added = false;
     for (const auto& [a, b] : crossed.pairs) {
-      std::pair<std::uint32_t, std::uint32_t> c;
-      if (a.x == b.x || a.x == b.y || a.y == b.x || a.y == b.y) {
+      // Candidates in order: the shared vertex into its nearer, then its farther neighbour (a
+      // zigzag), else either end of the shorter edge, then of the longer one.
+      std::vector<std::pair<std::uint32_t, std::uint32_t>> options;
+      if (a == b) {  // one trace crossing itself: the edge goes
+        options = {{a.y, a.x}, {a.x, a.y}};
+      } else if (a.x == b.x || a.x == b.y || a.y == b.x || a.y == b.y) {
         const std::uint32_t v = (a.x == b.x || a.x == b.y) ? a.x : a.y;
-        const std::uint32_t p = a.x == v ? a.y : a.x, q = b.x == v ? b.y : b.x;
-        c = {v, glm::length(x[p] - x[v]) <= glm::length(x[q] - x[v]) ? p : q};
+        std::uint32_t p = a.x == v ? a.y : a.x, q = b.x == v ? b.y : b.x;
+        if (glm::length(x[q] - x[v]) < glm::length(x[p] - x[v])) std::swap(p, q);
+        options = {{v, p}, {v, q}};
       } else {
-        const glm::uvec2 e = glm::length(x[a.x] - x[a.y]) <= glm::length(x[b.x] - x[b.y]) ? a : b;
-        c = {e.y, e.x};
+        const bool a_shorter = glm::length(x[a.x] - x[a.y]) <= glm::length(x[b.x] - x[b.y]);
+        const glm::uvec2 e = a_shorter ? a : b, f = a_shorter ? b : a;
+        options = {{e.y, e.x}, {e.x, e.y}, {f.y, f.x}, {f.x, f.y}};
       }
-      if (moved.count(c.first) || moved.count(c.second) || std::count(contractions.begin(), contractions.end(), c)) continue;
-      contractions.push_back(c);
-      moved.insert(c.first), moved.insert(c.second);
-      added = true;
+      for (const auto& c : options) {
+        if (moved.count(c.first) || moved.count(c.second) || std::count(contractions.begin(), contractions.end(), c)) continue;
+        contractions.push_back(c);
+        moved.insert(c.first), moved.insert(c.second);
+        added = true;
+        break;
+      }
     }
     return added;
   }
