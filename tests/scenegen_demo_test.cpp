@@ -253,8 +253,8 @@ TEST(ScenegenDemo, Branch) {
   const LoadedDemo d = check_demo("branch", {}, folder.path());
   EXPECT_EQ(d.scene.field.type, FieldType::branch);
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(32, 32, 64));
-  EXPECT_EQ(d.scene.refine.tau, 0.0003);
-  EXPECT_EQ(d.scene.refine.delta, 0.0006);
+  EXPECT_EQ(d.scene.refine.tau, 0.0001);
+  EXPECT_EQ(d.scene.refine.delta, 0.0002);
   ASSERT_FALSE(d.scene.fracture.cracks.empty());
   // One labelled piece and an incomplete crack, which virtual fracture completes into two pieces.
   EXPECT_EQ(d.model.piece_count, 2);

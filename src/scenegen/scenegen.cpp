@@ -34,7 +34,7 @@ constexpr SceneText kScenes[] = {
     {"branch", "tree branch",
      "The paper's tree branch: an incomplete cut in the middle of a cylinder, completed by virtual fracture, refined "
      "in a 32x32x64 branch field (paper: 60 -> 123K triangles).",
-     "branch", {32, 32, 64}, 0.0003, 0.0006},
+     "branch", {32, 32, 64}, 0.0001, 0.0002},
     {"wall", "collapsing brick wall",
      "The paper's collapsing wall: a wrecking ball knocks pieces out of a brick wall, refined in a 150x50x10 brick "
      "field (paper: 204 -> 208K triangles).",
