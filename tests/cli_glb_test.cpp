@@ -45,7 +45,8 @@ TEST(CliGlb, OutputGlbFalseWritesNone) {
   const fs::path path = first / "input" / "no_glb.json";
   std::ofstream(path, std::ios::binary) << scene;
   const fs::path out = t.path / "out";
-  auto r = run("refine " + path.string() + " -o " + out.string() + " --backend cpu -q");
+  auto r = run("refine " + path.string() + " -o " + out.string() +
+               " --backend cpu -q --set refine.tau=0.002 --set refine.delta=0.004");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(fs::exists(out / "frames" / "frame_0047.obj"));
   EXPECT_FALSE(fs::exists(out / "animation.glb"));
