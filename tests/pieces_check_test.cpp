@@ -180,6 +180,44 @@ TEST(PiecesTriangulate, CutTriangleKeepsConstraints) {
   EXPECT_TRUE(edges.count({5, 6}));
 }
 
+// An edge to avoid (a chord of S between two of the points) is flipped away where its quad is
+// convex; the triangulation still covers the triangle counterclockwise.
+TEST(PiecesTriangulate, EdgeToAvoidIsFlippedAway) {
+  CutTriangle in;
+  in.uv = {{0, 0}, {1, 0}, {0, 1}, {0.5, 0}, {0.5, 0.5}, {0, 0.5}, {0.3, 0.3}};
+  for (const auto& p : in.uv) in.xyz.emplace_back(p.x, p.y, 0.0);
+  in.side_points = {std::vector<std::uint32_t>{3}, std::vector<std::uint32_t>{4}, std::vector<std::uint32_t>{5}};
+  in.interior = {6};
+  auto interior_edges = [&](const std::vector<std::array<std::uint32_t, 3>>& tris) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+    for (const auto& t : tris)
+      for (int k = 0; k < 3; ++k) ++uses[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+    for (const auto& [e, n] : uses)
+      if (n == 2) out.push_back(e);
+    return out;
+  };
+  const auto before = triangulate_cut_triangle(in);
+  std::size_t flipped = 0;
+  for (const auto& e : interior_edges(before)) {
+    CutTriangle avoid = in;
+    avoid.avoid = {e};
+    const auto after = triangulate_cut_triangle(avoid);
+    ASSERT_EQ(after.size(), before.size());
+    double area = 0.0;
+    for (const auto& t : after) {
+      const glm::dvec2 a = in.uv[t[0]], b = in.uv[t[1]], c = in.uv[t[2]];
+      const double twice = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+      EXPECT_GT(twice, 0.0);
+      area += twice / 2;
+    }
+    EXPECT_DOUBLE_EQ(area, 0.5);
+    const auto edges = interior_edges(after);
+    flipped += std::find(edges.begin(), edges.end(), e) == edges.end();
+  }
+  EXPECT_GT(flipped, 0u);  // at least the edges in convex quads go
+}
+
 TEST(PiecesTriangulate, CrossingConstraintsAreRejected) {
   CutTriangle in;
   in.uv = {{0, 0}, {1, 0}, {0, 1}, {0.5, 0}, {0.5, 0.5}, {0, 0.5}, {0.2, 0.0}, {0.0, 0.2}};

@@ -334,8 +334,8 @@ TEST(ScenegenDemo, Bunny) {
   const LoadedDemo d = check_demo("bunny", options, folder.path());
   EXPECT_EQ(d.scene.field.type, FieldType::marble);
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(50, 50, 50));
-  EXPECT_EQ(d.scene.refine.tau, 0.0015);
-  EXPECT_EQ(d.scene.refine.delta, 0.003);
+  EXPECT_EQ(d.scene.refine.tau, 0.0012);
+  EXPECT_EQ(d.scene.refine.delta, 0.0024);
   ASSERT_EQ(d.scene.animation.kind, AnimationKind::rigid);
   EXPECT_EQ(folder_bytes(folder.path())["bunny.obj"], folder_bytes(bunny.parent_path())[bunny.filename().string()]);
   // The pieces fall: every piece is lower at the end.

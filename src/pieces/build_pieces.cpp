@@ -225,6 +225,9 @@ class PieceBuilder {
     snap_boundary();
     add_exterior_vertices();
     trace_boundary();
+    for (std::uint32_t e = 0; e < s_.edges.size(); ++e)
+      if (s_.edge_special[e] != kEdgeBoundary && cut_.on_b[s_.edges[e].x] && cut_.on_b[s_.edges[e].y])
+        cut_.chords.insert({std::min(s_.edges[e].x, s_.edges[e].y), std::max(s_.edges[e].x, s_.edges[e].y)});
     b_triangles_ = cut_exterior(m_, cut_, out_.positions, options_.delaunay);
     remesh_fracture_faces();
     check_poking();

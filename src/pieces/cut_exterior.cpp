@@ -83,6 +83,9 @@ class TriangleCutter {
           throw RunError("exterior triangle " + std::to_string(f) + ": a traced segment ends off the triangle");
         input_.constraints.emplace_back(ia->second, ib->second);
       }
+    for (const auto& [ga, la] : local_)
+      for (const auto& [gb, lb] : local_)
+        if (ga < gb && cut_.chords.count({ga, gb})) input_.avoid.emplace_back(la, lb);
     std::vector<std::array<std::uint32_t, 3>> tris;
     try {
       tris = triangulate_cut_triangle(input_);

@@ -35,6 +35,8 @@ class Triangulation {
     for (std::uint32_t p : in_.interior) insert_interior(p);
     for (const auto& [a, b] : in_.constraints) insert_constraint(a, b);
     if (in_.delaunay) improve();
+    for (int pass = 0; pass < 4 && flip_away(); ++pass) {
+    }
     std::vector<Tri> out;
     for (std::size_t t = 0; t < tris_.size(); ++t)
       if (alive_[t]) out.push_back(tris_[t]);
@@ -190,6 +192,20 @@ class Triangulation {
         if (++flips >= cap) break;
       }
     }
+  }
+
+  // Flips each free interior edge of in_.avoid whose quad is strictly convex; true if any was.
+  bool flip_away() {
+    bool any = false;
+    for (const auto& [a, b] : in_.avoid) {
+      const std::uint32_t t1 = tri_of(a, b), t2 = tri_of(b, a);
+      if (t1 == kNone || t2 == kNone || constrained_.count(undirected(a, b))) continue;
+      const std::uint32_t x = third(t1, a, b), y = third(t2, a, b);
+      if (orient(a, y, x) <= 0 || orient(y, b, x) <= 0) continue;
+      flip(t1, t2, a, b, x, y);
+      any = true;
+    }
+    return any;
   }
 
   const CutTriangle& in_;

@@ -139,11 +139,12 @@ struct CutTriangle {
   std::array<std::vector<std::uint32_t>, 3> side_points;  ///< points strictly inside side k, in order from corner k
   std::vector<std::uint32_t> interior;   ///< points strictly inside
   std::vector<std::pair<std::uint32_t, std::uint32_t>> constraints;  ///< segments that must be edges
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> avoid;  ///< free edges to flip away where the quad allows
   bool delaunay = true;
 };
 
 /// Triangulates the cut triangle: counterclockwise triangles over the local point ids, every
-/// constraint an edge. \throw RunError (the caller names the B triangle) when a constraint
+/// constraint an edge, and no edge of `avoid` that a flip in a strictly convex quad can remove. \throw RunError (the caller names the B triangle) when a constraint
 /// passes through another point, two constraints cross, or two points coincide.
 std::vector<std::array<std::uint32_t, 3>> triangulate_cut_triangle(const CutTriangle& input);
 
@@ -190,6 +191,9 @@ struct ExteriorCut {
     std::uint32_t s_from = 0, s_to = 0;  ///< the S boundary edge it traces
   };
   std::vector<Segment> segments;
+  /// Interior edges of S with both ends on B (global ids, smaller first): the re-triangulation
+  /// of B avoids them where it can (a piece would have an edge with four faces).
+  std::set<std::pair<std::uint32_t, std::uint32_t>> chords;
 };
 
 /// Thrown by cut_exterior when the traces of two S boundary edges cross in a B triangle.

@@ -30,7 +30,7 @@ constexpr SceneText kScenes[] = {
     {"bunny", "marble bunny",
      "The paper's marble bunny: a tet fracture of the Stanford bunny falling apart, refined in a 50^3 marble field "
      "(paper: 256 -> 174K triangles).",
-     "marble", {50, 50, 50}, 0.0015, 0.003},
+     "marble", {50, 50, 50}, 0.0012, 0.0024},
     {"branch", "tree branch",
      "The paper's tree branch: an incomplete cut in the middle of a cylinder, completed by virtual fracture, refined "
      "in a 32x32x64 branch field (paper: 60 -> 123K triangles).",
