@@ -84,8 +84,8 @@ class TriangleCutter {
         input_.constraints.emplace_back(ia->second, ib->second);
       }
     for (const auto& [ga, la] : local_)
-      for (const auto& [gb, lb] : local_)
-        if (ga < gb && cut_.chords.count({ga, gb})) input_.avoid.emplace_back(la, lb);
+      for (auto c = cut_.chords.lower_bound({ga, 0}); c != cut_.chords.end() && c->first == ga; ++c)
+        if (auto lb = local_.find(c->second); lb != local_.end()) input_.avoid.emplace_back(la, lb->second);
     std::vector<std::array<std::uint32_t, 3>> tris;
     try {
       tris = triangulate_cut_triangle(input_);

@@ -83,7 +83,6 @@ std::vector<std::array<std::uint32_t, 3>> faces_near_exterior(const std::vector<
 // virtual vertices, appended after the real ones, each a fixed barycentric combination of the
 // face's corners (so they move linearly with them). Only a strip of that width along the rim
 // goes untested.
-constexpr double kRimShrink = 0.02;
 
 struct RimFaces {
   std::vector<std::array<std::uint32_t, 3>> triangles;  // virtual ids for the B corners

@@ -12,6 +12,11 @@
 
 namespace fracref {
 
+/// A rim face (a face with a corner on B) is tested against B as a copy whose B corners are
+/// pulled this fraction of the way to its centroid (it touches B at those corners by
+/// construction). The containment splits judge rim faces the same way.
+inline constexpr double kRimShrink = 0.02;
+
 /// Moves every boundary vertex of `s` to its closest point on B.
 void project_boundary_vertices(FractureSurface& s, const ExteriorSurface& exterior);
 

@@ -5,11 +5,11 @@
 #include <optional>
 
 #include "geom/face_guard.hpp"
+#include "refine/collisions.hpp"
 
 namespace fracref {
 namespace {
 
-constexpr double kRimShrink = 0.02;  // as the rim faces of the collision constraints
 
 glm::dvec3 at(const FractureSurface& s, std::uint32_t v) { return glm::dvec3(glm::vec3(s.positions[v])); }
 

@@ -43,6 +43,8 @@ class Refiner {
   std::vector<glm::vec3> boundary_tangents() const;
   std::vector<float> stiffness_steps() const;
   void conform_boundary();
+  // Containment splits: lengths in the scene's unit, nothing split below the sample spacing.
+  TuckOptions tuck_options() const { return {.scale = o_.scale, .min_edge = o_.delta}; }
   IterationStats flow_step();
   std::size_t refine_step(std::uint32_t iteration);
   struct ElementMotion {
@@ -368,7 +370,7 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   be_.set_field(field_);
   project_boundary_vertices(s_, b_);
   conform_boundary();
-  tuck_inside(s_, tree_, b_, TuckOptions{o_.scale, 1e-3, 12, 8, o_.delta});
+  tuck_inside(s_, tree_, b_, tuck_options());
   evaluate();
   result.initial_energy = energy();
   for (int it = 0; it < o_.max_iterations; ++it) {
@@ -390,8 +392,7 @@ RefineResult Refiner::run(const RefineProgress& progress) {
       break;
     }
   }
-  for (int pass = 0; pass < kChordPasses && split_rim_chords(s_, tree_, b_, TuckOptions{o_.scale, 1e-3, 12, 8, o_.delta}) > 0;
-       ++pass) {
+  for (int pass = 0; pass < kChordPasses && split_rim_chords(s_, tree_, b_, tuck_options()) > 0; ++pass) {
   }
   // Every edit is meant to keep S valid; a violation here is a bug, and it must not reach the
   // pieces or the output files silently.
