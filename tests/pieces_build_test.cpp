@@ -247,15 +247,24 @@ bool insert_hair_vertex(std::vector<glm::vec4>& positions, std::vector<glm::uvec
   return false;
 }
 
-TEST(PiecesRepair, HairShortBoundaryEdgeIsContracted) {
-  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
+// The 4 x 4 example sheet with a hair vertex on each given boundary edge; false when an edge
+// is not one.
+bool sheet_with_hairs(std::initializer_list<std::pair<glm::vec3, glm::vec3>> edges, FractureSurface& out) {
   const FractureSurface sheet = example_sheet(4);
   std::vector<glm::vec4> positions = sheet.positions;
   std::vector<glm::uvec4> faces = sheet.faces;
   std::vector<glm::ivec2> pieces = sheet.face_pieces;
+  for (const auto& [p1, p2] : edges)
+    if (!insert_hair_vertex(positions, faces, pieces, p1, p2)) return false;
+  out = make_fracture_surface(positions, faces, pieces, 2);
+  return true;
+}
+
+TEST(PiecesRepair, HairShortBoundaryEdgeIsContracted) {
+  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
+  FractureSurface s;
   // On the boundary edge y = 0 from (1,0,0) to (2,0,0).
-  ASSERT_TRUE(insert_hair_vertex(positions, faces, pieces, {1, 0, 0}, {2, 0, 0}));
-  const FractureSurface s = make_fracture_surface(positions, faces, pieces, 2);
+  ASSERT_TRUE(sheet_with_hairs({{{1, 0, 0}, {2, 0, 0}}}, s));
   const PieceSet set = build_pieces(s, b);
   EXPECT_EQ(set.boundary_edges_merged, 1u);
   EXPECT_EQ(set.flaps_removed, 0u);
@@ -267,13 +276,8 @@ TEST(PiecesRepair, HairShortBoundaryEdgeIsContracted) {
 // result as one at a time.
 TEST(PiecesRepair, HairEdgesFarApartAreContractedTogether) {
   const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
-  const FractureSurface sheet = example_sheet(4);
-  std::vector<glm::vec4> positions = sheet.positions;
-  std::vector<glm::uvec4> faces = sheet.faces;
-  std::vector<glm::ivec2> pieces = sheet.face_pieces;
-  ASSERT_TRUE(insert_hair_vertex(positions, faces, pieces, {1, 0, 0}, {2, 0, 0}));
-  ASSERT_TRUE(insert_hair_vertex(positions, faces, pieces, {1, 3, 0}, {2, 3, 0}));
-  const FractureSurface s = make_fracture_surface(positions, faces, pieces, 2);
+  FractureSurface s;
+  ASSERT_TRUE(sheet_with_hairs({{{1, 0, 0}, {2, 0, 0}}, {{1, 3, 0}, {2, 3, 0}}}, s));
   const PieceSet set = build_pieces(s, b);
   EXPECT_EQ(set.boundary_edges_merged, 2u);
   EXPECT_EQ(set.attempts, 1u);

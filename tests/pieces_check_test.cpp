@@ -2,9 +2,10 @@
 // the two re-triangulations (cut B triangle, fracture polygon) on small cases with known counts.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <fstream>
 #include <sstream>
+
+#include <unistd.h>
 
 #include "io/mesh_io.hpp"
 #include "pieces/pieces_internal.hpp"
@@ -104,8 +105,9 @@ TEST(PiecesCheck, IndexOutOfRangeIsRunError) {
 }
 
 std::filesystem::path temp_folder(const std::string& name) {
-  const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
-  const std::filesystem::path p = std::filesystem::temp_directory_path() / ("fracref_pieces_" + name + "_" + std::to_string(stamp));
+  // Unique per process (ctest runs tests in parallel processes).
+  const std::filesystem::path p =
+      std::filesystem::temp_directory_path() / ("fracref_pieces_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::create_directories(p);
   return p;
 }
