@@ -1,10 +1,29 @@
 // The fracref command-line tool: parses the command line and maps errors to exit codes.
 #include <iostream>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "cli.hpp"
 #include "util/error.hpp"
 
+namespace {
+
+// The refiner allocates and frees arrays the size of the surface several times per iteration;
+// glibc serves blocks over 128 KiB by mmap and returns them to the kernel on free, so every
+// iteration paid again for zeroed pages (8% of the bunny's refine time in page faults). Freed
+// blocks stay in the heap instead; the peak memory is unchanged.
+void keep_freed_memory() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_THRESHOLD, 256 << 20);
+  mallopt(M_TRIM_THRESHOLD, 512 << 20);
+#endif
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  keep_freed_memory();
   try {
     return fracref::cli::run(argc, argv);
   } catch (const fracref::InputError& e) {
