@@ -130,12 +130,46 @@ glm::dvec3 inside_target(const ExteriorSurface& b, const glm::dvec3& x, double m
   return glm::dvec3(glm::vec3(cp.point - margin * b.normal(cp.triangle)));
 }
 
+// Distance to B is 1-Lipschitz: an edge between two inside vertices whose distances to B add up
+// to more than its length stays inside B, and so does a face whose corners are all inside,
+// farther from B than its longest edge; their samples need no queries. Per vertex: its distance
+// to B when inside, -1 when outside or on the rim (computed on first use).
+class SurelyInside {
+ public:
+  SurelyInside(const FractureSurface& s, const ExteriorSurface& b) : s_(s), b_(b), clearance_(s.positions.size(), kUnknown) {}
+  bool edge(std::uint32_t e) {
+    const glm::uvec2 ab = s_.edges[e];
+    const double da = clearance(ab.x), db = clearance(ab.y);
+    return da >= 0.0 && db >= 0.0 && da + db > glm::distance(at(s_, ab.x), at(s_, ab.y)) * (1.0 + 1e-9);
+  }
+  bool face(std::uint32_t f) {
+    const glm::uvec4 x = s_.faces[f];
+    const double nearest = std::min({clearance(x.x), clearance(x.y), clearance(x.z)});
+    return nearest >= 0.0 && nearest > longest_edge(s_, x) * (1.0 + 1e-9);
+  }
+
+ private:
+  static constexpr double kUnknown = -2.0;
+  double clearance(std::uint32_t v) {
+    double& c = clearance_[v];
+    if (c != kUnknown) return c;
+    const glm::dvec3 x = at(s_, v);
+    c = (s_.vertex_flags[v] & kVertexBoundary) || !b_.contains(x) ? -1.0 : std::sqrt(b_.squared_distance(x));
+    return c;
+  }
+  const FractureSurface& s_;
+  const ExteriorSurface& b_;
+  std::vector<double> clearance_;
+};
+
 // Splits of the interior edges that leave B; returns the number of splits.
 std::size_t tuck_edges(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
   SplitBatch batch(s);
+  SurelyInside inside(s, b);
   for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
     float t = 0.0f;
-    if (s.edge_special[e] == kEdgeBoundary || batch.busy_edge(e) || deepest_outside_on_edge(s, e, b, o.sample_grid, t) == 0.0)
+    if (s.edge_special[e] == kEdgeBoundary || batch.busy_edge(e) || inside.edge(e) ||
+        deepest_outside_on_edge(s, e, b, o.sample_grid, t) == 0.0)
       continue;
     const glm::uvec2 ab = s.edges[e];
     const double length = glm::distance(at(s, ab.x), at(s, ab.y));
@@ -154,8 +188,9 @@ std::size_t tuck_edges(FractureSurface& s, RefinementTree& tree, const ExteriorS
 // follows B more closely. Returns the number of splits.
 std::size_t tuck_rim_edges(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
   SplitBatch batch(s);
+  SurelyInside inside(s, b);
   for (std::uint32_t f = 0; f < s.faces.size(); ++f) {
-    if (batch.busy_face(f) || !face_meets_exterior(s, f, b)) continue;
+    if (batch.busy_face(f) || inside.face(f) || !face_meets_exterior(s, f, b)) continue;
     std::uint32_t edge = kNoEdge, longest = kNoEdge;
     double deepest = 0.0, longest_length = 0.0;
     for (int k = 0; k < 3; ++k) {
@@ -178,8 +213,9 @@ std::size_t tuck_rim_edges(FractureSurface& s, RefinementTree& tree, const Exter
 // Splits of the faces whose inside leaves B; returns the number of splits.
 std::size_t tuck_faces(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
   SplitBatch batch(s);
+  SurelyInside inside(s, b);
   for (std::uint32_t f = 0; f < s.faces.size(); ++f) {
-    if (!face_meets_exterior(s, f, b)) continue;
+    if (inside.face(f) || !face_meets_exterior(s, f, b)) continue;
     glm::vec3 w(0.0f);
     if (!deepest_outside(s, f, b, o.sample_grid, w)) continue;
     const glm::uvec4 face = s.faces[f];
