@@ -64,7 +64,7 @@ struct RefineRun {
   RefineResult result;
 };
 
-RefineRun run_refine(std::uint64_t seed, int iterations) {
+RefineRun run_refine(std::uint64_t seed, int iterations, std::size_t max_triangles = 4000) {
   static const ExteriorSurface b = make_exterior(unit_cube(), "cube");
   static const FieldGrid4 field = wavy_field();
   RefineRun r{sheet(4, 0.5f), {}};
@@ -74,7 +74,7 @@ RefineRun run_refine(std::uint64_t seed, int iterations) {
   o.tau = 0.001;
   o.delta = 0.01;
   o.max_iterations = iterations;
-  o.max_triangles = 4000;
+  o.max_triangles = max_triangles;
   o.seed = seed;
   r.result = refine_surface(r.s, field, b, *backend, o);
   return r;
@@ -123,9 +123,31 @@ TEST(RefineLoop, SameSeedSameSurfaceDifferentSeedDifferent) {
               std::memcmp(a.s.positions.data(), c.s.positions.data(), a.s.positions.size() * sizeof(glm::vec4)) != 0);
 }
 
-TEST(RefineLoop, IterationCapAndBudgetStop) {
+TEST(RefineLoop, IterationCapStop) {
   RefineRun r = run_refine(9, 3);
-  EXPECT_LE(r.result.iterations.size(), 3u);
+  EXPECT_EQ(r.result.iterations.size(), 3u);
+  EXPECT_EQ(r.result.stop, RefineResult::Stop::kIterationCap);
+}
+
+// The loop stops in the iteration where a split is first refused for the budget, at or under it
+// (the chord splits after the loop may add a few faces: they keep the pieces stage sound). Up to
+// that iteration a budgeted run is the unbudgeted one, so it must end in the first iteration
+// where the unbudgeted run goes past the budget.
+TEST(RefineLoop, BudgetStopsTheLoopAtTheFirstRefusedSplit) {
+  const RefineRun free_run = run_refine(9, 25);
+  for (std::size_t budget : {55u, 61u, 63u}) {
+    SCOPED_TRACE("budget " + std::to_string(budget));
+    std::size_t expected = 0;
+    while (expected < free_run.result.iterations.size() && free_run.result.iterations[expected].triangles <= budget)
+      ++expected;
+    ASSERT_LT(expected, free_run.result.iterations.size());  // the free run goes past the budget
+    RefineRun r = run_refine(9, 25, budget);
+    ASSERT_EQ(validate(r.s), "");
+    EXPECT_EQ(r.result.stop, RefineResult::Stop::kTriangleBudget);
+    EXPECT_EQ(r.result.iterations.size(), expected + 1);
+    EXPECT_LE(r.result.iterations.back().triangles, budget);
+    EXPECT_GE(r.s.faces.size(), r.result.iterations.back().triangles);
+  }
 }
 
 TEST(RefineLoop, SplitsRecordTreeWeightsThatReproduceTheCreationPosition) {

@@ -61,6 +61,7 @@ class Refiner {
   RefineOptions o_;
   RefinementTree tree_;
   std::vector<glm::vec4> samples_, velocity_;
+  bool budget_reached_ = false;   // a split was refused because it would exceed max_triangles
   std::vector<float> clearance_;  // per vertex, a lower bound of the distance to B (< 0: unknown)
 };
 
@@ -286,7 +287,10 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
     }
     if (!lowers) continue;
     std::size_t added = set.requests[k].kind == SplitRequest::kFace ? 2 : fx.faces.size();
-    if (faces + added > o_.max_triangles) break;
+    if (faces + added > o_.max_triangles) {
+      budget_reached_ = true;
+      break;
+    }
     faces += added;
     for (std::uint32_t f : fx.faces) touched[f] = 1;
     chosen.push_back(set.requests[k]);
@@ -383,7 +387,9 @@ RefineResult Refiner::run(const RefineProgress& progress) {
     st.triangles = s_.faces.size();
     result.iterations.push_back(st);
     if (progress) progress(st, it, o_.max_iterations);
-    if (s_.faces.size() >= o_.max_triangles) {
+    // Once a split has been refused for the budget, the surface is within one split of it:
+    // further iterations would add a handful of faces each at the full cost of an iteration.
+    if (budget_reached_ || s_.faces.size() >= o_.max_triangles) {
       result.stop = RefineResult::Stop::kTriangleBudget;
       break;
     }

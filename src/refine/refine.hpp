@@ -20,7 +20,7 @@ struct RefineOptions {
   double step = 0.0;            ///< time step; 0 = automatic (see refine.cpp: median CFL rule)
   double tolerance = 1e-5;      ///< stop when the largest displacement < tolerance·scale and nothing split
   int max_iterations = 60;
-  std::size_t max_triangles = 200000;
+  std::size_t max_triangles = 200000;  ///< stop once a split would exceed this many faces (the chord splits after the loop may add a few)
   std::uint64_t seed = 1;
   double min_angle = 20.0;      ///< degrees: flip edges of faces with a smaller angle
   bool collisions = true;       ///< continuous collision detection of S against itself and B
