@@ -88,6 +88,27 @@ TEST(PiecesRim, PushMovesAVertexIntoB) {
   EXPECT_TRUE(find_self_intersections(x, tris, 1).empty());
 }
 
+// Faces of S that cross each other away from the moved vertex (the pieces stage reports those
+// elsewhere) do not hold a push back: only faces at a moved vertex are checked.
+TEST(PiecesRim, CrossingFacesElsewhereDoNotHoldAPushBack) {
+  const ExteriorMesh m = l_prism();
+  std::vector<glm::vec4> positions = {{0.0f, 0.5f, 0.5f, 1.0f}, {0.5f, 0.0f, 0.4f, 1.0f}, {0.5f, 0.5f, 0.0f, 1.0f},
+                                      {0.3f, 0.3f, 0.9f, 1.0f}};
+  // Two triangles through each other near the far corner of the prism.
+  for (const glm::vec3& x : {glm::vec3(1.2f, 0.2f, 0.2f), glm::vec3(1.6f, 0.2f, 0.2f), glm::vec3(1.4f, 0.2f, 0.6f),
+                             glm::vec3(1.4f, 0.0f, 0.3f), glm::vec3(1.4f, 0.4f, 0.3f), glm::vec3(1.4f, 0.2f, 0.7f)})
+    positions.emplace_back(x, 1.0f);
+  const std::vector<glm::uvec4> faces = {{3, 0, 1, 0}, {3, 1, 2, 0}, {3, 2, 0, 0}, {4, 5, 6, 0}, {7, 8, 9, 0}};
+  FractureSurface t = make_fracture_surface(positions, faces, std::vector<glm::ivec2>(5, glm::ivec2(1, 0)), 2);
+  std::vector<glm::dvec3> x;
+  for (const glm::vec4& p : t.positions) x.emplace_back(glm::vec3(p));
+  std::vector<TriangleIds> tris;
+  for (const glm::uvec4& f : t.faces) tris.push_back({f.x, f.y, f.z});
+  ASSERT_EQ(find_self_intersections(x, tris, 4).size(), 1u);
+  push_inward(t, m, {{3, 0.25}});
+  EXPECT_NEAR(t.positions[3].z, 0.65, 1e-6);
+}
+
 }  // namespace
 }  // namespace fracref
 

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "pieces/pieces.hpp"
@@ -112,7 +113,7 @@ struct Retries {
     }
     // Neither plane works (the face stands at a slant to a curved B): its boundary edge is
     // contracted, the face with it.
-    for (const std::pair<std::uint32_t, std::uint32_t> c :
+    for (const auto& c :
          {std::pair{failed.boundary_edge.y, failed.boundary_edge.x}, std::pair{failed.boundary_edge.x, failed.boundary_edge.y}})
       if (!std::count(contractions.begin(), contractions.end(), c)) {
         contractions.push_back(c);
@@ -202,14 +203,29 @@ struct Retries {
   }
 };
 
+// S after repair_boundary with the retries' flaps and contractions. Most retries change
+// neither (they push vertices), and the repair costs as much as the rest of an attempt on a large
+// S, so build_pieces keeps it while they stay the same.
+struct RepairedInput {
+  std::vector<std::uint32_t> left_out;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> contractions;
+  RepairReport report;
+  FractureSurface s;
+
+  bool made_for(const Retries& r) const { return left_out == r.left_out && contractions == r.contractions; }
+};
+
+RepairedInput repair_input(const FractureSurface& s, const ExteriorMesh& m, const PieceOptions& options, const Retries& retries) {
+  RepairedInput r{retries.left_out, retries.contractions, {}, {}};
+  r.s = repair_boundary(s, m, options.merge_tolerance * m.diagonal, options.remove_flaps, options.snap_tolerance * m.diagonal,
+                        retries.left_out, retries.contractions, r.report);
+  return r;
+}
+
 class PieceBuilder {
  public:
-  PieceBuilder(const FractureSurface& s, const ExteriorMesh& m, const PieceOptions& options, const Retries& retries)
-      : m_(m),
-        options_(options),
-        retries_(retries),
-        s_(repair_boundary(s, m_, options.merge_tolerance * m_.diagonal, options.remove_flaps,
-                           options.snap_tolerance * m_.diagonal, retries.left_out, retries.contractions, repair_)) {
+  PieceBuilder(const RepairedInput& repaired, const ExteriorMesh& m, const PieceOptions& options, const Retries& retries)
+      : m_(m), options_(options), retries_(retries), repair_(repaired.report), s_(repaired.s) {
     out_.boundary_edges_merged = repair_.collapsed;
     out_.flaps_removed = repair_.flaps_removed;
     out_.contracted = repair_.contracted;
@@ -645,9 +661,11 @@ PieceSet build_pieces(const FractureSurface& s, const MeshSoup& exterior, const 
   const ExteriorMesh m = make_exterior_mesh(exterior);
   const FractureSurface input = checked(s);
   Retries retries;
+  std::optional<RepairedInput> repaired;
   for (;; ++retries.attempts) {
     try {
-      PieceSet out = PieceBuilder(input, m, options, retries).run();
+      if (!repaired || !repaired->made_for(retries)) repaired = repair_input(input, m, options, retries);
+      PieceSet out = PieceBuilder(*repaired, m, options, retries).run();
       out.attempts = std::uint32_t(retries.attempts + 1);
       return out;
     } catch (const PokingOut& poking) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <set>
 
+#include "geom/bvh.hpp"
 #include "geom/intersect.hpp"
 #include "pieces/pieces_internal.hpp"
 #include "util/error.hpp"
@@ -17,9 +18,6 @@ constexpr int kSampleGrid = 5;
 // this far to where it enters B.
 constexpr double kRimProbe = 0.02;
 constexpr double kMaxRetract = 0.3;
-// Self-intersections of S looked at after a move (those not involving a moved vertex were
-// there before and are not this step's to report).
-constexpr std::size_t kReportedHits = 256;
 constexpr int kPushHalvings = 6;
 
 // How far the inside of triangle (a, b, c) lies outside B at most (0: not beyond `tolerance`),
@@ -61,15 +59,54 @@ double entry_along(const ExteriorMesh& m, const glm::dvec3& w, const glm::dvec3&
   return in;
 }
 
-// The moved vertices that take part in a self-intersection of S.
-std::set<std::uint32_t> moved_into_itself(const FractureSurface& s, const std::map<std::uint32_t, glm::dvec3>& moved) {
+// The faces of S, a tree over boxes that hold each face wherever the moves of `offset` may
+// take it (a moved corner goes from its start toward start + offset; float rounding of a point
+// between two floats stays between them), and the faces with a moved corner.
+struct MoveCheck {
+  std::vector<TriangleIds> faces;
+  std::vector<std::uint32_t> moved_faces;
+  Bvh tree;
+};
+
+MoveCheck prepare_move_check(const FractureSurface& s, const std::map<std::uint32_t, glm::dvec3>& offset) {
+  MoveCheck c;
+  c.faces = face_triangles(s);
+  std::vector<Aabb> boxes(c.faces.size());
+  for (std::uint32_t f = 0; f < c.faces.size(); ++f) {
+    bool moved = false;
+    for (std::uint32_t v : c.faces[f]) {
+      const glm::vec3 start(s.positions[v]);
+      boxes[f].expand(glm::dvec3(start));
+      if (const auto it = offset.find(v); it != offset.end()) {
+        boxes[f].expand(glm::dvec3(glm::vec3(glm::dvec3(start) + it->second)));
+        moved = true;
+      }
+    }
+    if (moved) c.moved_faces.push_back(f);
+  }
+  c.tree = build_bvh(boxes);
+  return c;
+}
+
+// The moved vertices that take part in a self-intersection of S (at a face with a moved corner:
+// the others were there before the move and are not its to report).
+std::set<std::uint32_t> moved_into_itself(const FractureSurface& s, const MoveCheck& c,
+                                          const std::map<std::uint32_t, glm::dvec3>& moved) {
   const std::vector<glm::dvec3> positions = double_positions(s);
-  const std::vector<TriangleIds> faces = face_triangles(s);
   std::set<std::uint32_t> out;
-  for (const auto& [f, g] : find_self_intersections(positions, faces, kReportedHits))
-    for (std::uint32_t x : {f, g})
-      for (std::uint32_t v : faces[x])
-        if (moved.count(v)) out.insert(v);
+  std::vector<std::uint32_t> hits;
+  for (std::uint32_t f : c.moved_faces) {
+    Aabb box;
+    for (std::uint32_t v : c.faces[f]) box.expand(positions[v]);
+    hits.clear();
+    query_box(c.tree, box, hits);
+    for (std::uint32_t g : hits) {
+      if (g == f || !mesh_faces_intersect(positions, c.faces[std::min(f, g)], c.faces[std::max(f, g)])) continue;
+      for (std::uint32_t x : {f, g})
+        for (std::uint32_t v : c.faces[x])
+          if (moved.count(v)) out.insert(v);
+    }
+  }
   return out;
 }
 
@@ -77,12 +114,14 @@ std::set<std::uint32_t> moved_into_itself(const FractureSurface& s, const std::m
 // its faces has its move halved until S is clean, and after `halvings` halvings stays where it
 // was. Returns how many vertices moved.
 std::uint32_t move_clear_of_itself(FractureSurface& s, const std::map<std::uint32_t, glm::dvec3>& offset, int halvings) {
+  if (offset.empty()) return 0;
+  const MoveCheck check = prepare_move_check(s, offset);
   std::map<std::uint32_t, std::pair<glm::dvec3, double>> start_and_scale;
   for (const auto& [v, d] : offset) start_and_scale[v] = {glm::dvec3(glm::vec3(s.positions[v])), 1.0};
   for (int round = 0; round <= halvings + 1; ++round) {
     for (const auto& [v, ss] : start_and_scale)
       s.positions[v] = glm::vec4(glm::vec3(ss.first + ss.second * offset.at(v)), s.positions[v].w);
-    const std::set<std::uint32_t> bad = offset.empty() ? std::set<std::uint32_t>{} : moved_into_itself(s, offset);
+    const std::set<std::uint32_t> bad = moved_into_itself(s, check, offset);
     if (bad.empty()) break;
     for (std::uint32_t v : bad) start_and_scale[v].second = round < halvings ? 0.5 * start_and_scale[v].second : 0.0;
   }
