@@ -29,7 +29,13 @@ bool FaceGuard::clear(const std::vector<TriangleIds>& faces, const std::vector<s
   for (const TriangleIds& t : faces) box.expand(box_of(t));
   std::vector<std::uint32_t> hits;
   query_box(bvh_, box, hits);
-  for (std::uint32_t k = 0; k < new_boxes_.size(); ++k)
+  std::vector<std::uint32_t> in_run;
+  for (const Run& run : runs_) {
+    in_run.clear();
+    query_box(run.tree, box, in_run);
+    for (std::uint32_t k : in_run) hits.push_back(std::uint32_t(s_faces_ + run.begin + k));
+  }
+  for (std::size_t k = runs_.empty() ? 0 : runs_.back().end; k < new_boxes_.size(); ++k)
     if (new_boxes_[k].overlaps(box)) hits.push_back(std::uint32_t(s_faces_ + k));
   for (std::uint32_t g : hits) {
     if (g < s_faces_ && (gone_[g] || std::find(replaced.begin(), replaced.end(), g) != replaced.end())) continue;
@@ -44,6 +50,27 @@ void FaceGuard::accept(const std::vector<TriangleIds>& faces, const std::vector<
   for (const TriangleIds& t : faces) {
     faces_.push_back(t);
     new_boxes_.push_back(box_of(t));
+  }
+  index_new_boxes();
+}
+
+void FaceGuard::index_new_boxes() {
+  constexpr std::size_t kTail = 32;
+  const std::size_t indexed = runs_.empty() ? 0 : runs_.back().end;
+  if (new_boxes_.size() - indexed < kTail) return;
+  auto make_run = [&](std::size_t begin, std::size_t end) {
+    Run run{begin, end, {}};
+    run.tree = build_bvh(std::vector<Aabb>(new_boxes_.begin() + std::ptrdiff_t(begin), new_boxes_.begin() + std::ptrdiff_t(end)));
+    return run;
+  };
+  runs_.push_back(make_run(indexed, new_boxes_.size()));
+  while (runs_.size() >= 2) {
+    const Run& last = runs_.back();
+    const Run& before = runs_[runs_.size() - 2];
+    if (before.end - before.begin > last.end - last.begin) break;
+    Run merged = make_run(before.begin, last.end);
+    runs_.pop_back();
+    runs_.back() = std::move(merged);
   }
 }
 

@@ -1,0 +1,65 @@
+// FaceGuard: new faces are tested against the snapshot's faces and against every face accepted
+// since, whether it sits in an indexed run or in the unindexed tail.
+#include <gtest/gtest.h>
+
+#include "geom/face_guard.hpp"
+
+namespace fracref {
+namespace {
+
+// A row of n small triangles in the plane z = 0, triangle k over x in [k, k + 0.8].
+struct Row {
+  std::vector<glm::dvec3> positions;
+  std::vector<TriangleIds> faces;
+};
+
+Row row(int n, double z) {
+  Row r;
+  for (int k = 0; k < n; ++k) {
+    const auto base = std::uint32_t(r.positions.size());
+    r.positions.push_back({k, 0.0, z});
+    r.positions.push_back({k + 0.8, 0.0, z});
+    r.positions.push_back({k + 0.4, 0.8, z});
+    r.faces.push_back({base, base + 1, base + 2});
+  }
+  return r;
+}
+
+// A vertical triangle that pierces the plane z = h inside the triangle over [k, k + 0.8].
+std::vector<TriangleIds> piercing(FaceGuard& g, int k, double h) {
+  const std::uint32_t a = g.add_vertex({k + 0.4, 0.3, h - 0.5});
+  const std::uint32_t b = g.add_vertex({k + 0.4, 0.5, h - 0.5});
+  const std::uint32_t c = g.add_vertex({k + 0.4, 0.4, h + 0.5});
+  return {{a, b, c}};
+}
+
+TEST(FaceGuard, SnapshotFacesBlockUnlessReplaced) {
+  Row r = row(4, 0.0);
+  FaceGuard g(r.positions, r.faces);
+  const auto t = piercing(g, 2, 0.0);
+  EXPECT_FALSE(g.clear(t, {}));
+  EXPECT_TRUE(g.clear(t, {2}));
+  g.accept({}, {2});
+  EXPECT_TRUE(g.clear(t, {}));
+}
+
+// 1000 accepted faces (a row at z = 5, added one by one): the runs merge several times; a face
+// piercing any of them is refused, one piercing none is accepted.
+TEST(FaceGuard, AcceptedFacesBlockInEveryRunAndInTheTail) {
+  Row base = row(1, -3.0);
+  FaceGuard g(base.positions, base.faces);
+  const int n = 1000;
+  const Row upper = row(n, 5.0);
+  std::vector<std::uint32_t> ids;
+  for (const glm::dvec3& p : upper.positions) ids.push_back(g.add_vertex(p));
+  for (const TriangleIds& f : upper.faces) g.accept({{ids[f[0]], ids[f[1]], ids[f[2]]}}, {});
+  for (int k : {0, 1, 31, 32, 500, 511, 512, 767, 960, 990, 999}) {
+    SCOPED_TRACE("accepted face " + std::to_string(k));
+    EXPECT_FALSE(g.clear(piercing(g, k, 5.0), {}));
+  }
+  EXPECT_TRUE(g.clear(piercing(g, n + 3, 5.0), {}));  // beyond the row
+  EXPECT_TRUE(g.clear(piercing(g, 10, 2.0), {}));     // under it
+}
+
+}  // namespace
+}  // namespace fracref
