@@ -51,12 +51,31 @@ TEST(PiecesRim, TrianglesPokingOutOfBNameTheirInnerVertices) {
   const std::vector<std::uint8_t> on_b = {1, 0, 0, 0};
   const auto poking = poking_vertices(m, positions, {{0, 1, 2}}, on_b, 4, 1e-9);
   ASSERT_EQ(poking.size(), 2u);
-  EXPECT_GT(poking.at(1), 0.0);
-  EXPECT_GT(poking.at(2), 0.0);
+  EXPECT_GT(poking.at(1).distance, 0.0);
+  EXPECT_GT(poking.at(2).distance, 0.0);
   // The same corner on B with inner corners that keep the triangle inside: nothing pokes.
   EXPECT_TRUE(poking_vertices(m, positions, {{0, 3, 1}}, on_b, 4, 1e-9).empty());
   // A vertex that is not of S (id >= s_vertex_count) is never named.
   EXPECT_EQ(poking_vertices(m, positions, {{0, 1, 2}}, on_b, 2, 1e-9).size(), 1u);
+}
+
+// On a thin B the side nearest to an inner vertex need not be the side its triangle pokes
+// through: the push points from the poke back to B, not along the normal nearest the vertex.
+TEST(PiecesRim, PokeThroughTheFarSideOfAThinBPointsThePushThatWay) {
+  std::set<std::array<int, 3>> cells;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) cells.insert({i, j, 0});
+  const ExteriorMesh m = make_exterior_mesh(voxel_surface(cells, 0.2));  // 2 x 2 x 0.2
+  // w0 on the front z = 0.2; v 0.03 over the back z = 0; w1 a little outside the front.
+  const std::vector<glm::dvec3> positions = {{0.6, 1.0, 0.2}, {1.0, 1.0, 0.03}, {1.0, 1.4, 0.26}};
+  const auto poking = poking_vertices(m, positions, {{0, 1, 2}}, {1, 0, 0}, 3, 1e-9);
+  ASSERT_EQ(poking.count(1), 1u);
+  EXPECT_NEAR(poking.at(1).direction.z, -1.0, 1e-9);
+  // Pushed that way (a quarter farther, as build_pieces does), v takes the poke back in.
+  FractureSurface s = make_fracture_surface({{0.6f, 1.0f, 0.2f, 1.0f}, {1.0f, 1.0f, 0.03f, 1.0f}, {1.0f, 1.4f, 0.26f, 1.0f}},
+                                            {{0, 1, 2, 0}}, {glm::ivec2(1, 0)}, 2);
+  push_inward(s, m, {{1, {1.25 * poking.at(1).distance, poking.at(1).direction}}});
+  EXPECT_LT(s.positions[1].z, 0.03f);
 }
 
 TEST(PiecesRim, PushMovesAVertexIntoB) {
@@ -65,7 +84,7 @@ TEST(PiecesRim, PushMovesAVertexIntoB) {
                                             glm::vec3(0.5f, 0.5f, 0.0f), glm::vec3(0.3f, 0.3f, 0.9f)};
   FractureSurface s = fan(corners);
   // v is 0.1 under the top z = 1: pushed 0.25 further down.
-  push_inward(s, m, {{3, 0.25}});
+  push_inward(s, m, {{3, {0.25}}});
   EXPECT_NEAR(s.positions[3].z, 0.65, 1e-6);
   EXPECT_NEAR(s.positions[3].x, 0.3, 1e-6);
   // With a small triangle of S under v, a deep push drives the fan through it.
@@ -75,10 +94,10 @@ TEST(PiecesRim, PushMovesAVertexIntoB) {
     positions.emplace_back(x, 1.0f);
   const std::vector<glm::uvec4> faces = {{3, 0, 1, 0}, {3, 1, 2, 0}, {3, 2, 0, 0}, {4, 5, 6, 0}};
   FractureSurface t = make_fracture_surface(positions, faces, std::vector<glm::ivec2>(4, glm::ivec2(1, 0)), 2);
-  EXPECT_NO_THROW(push_inward(t, m, {{3, 0.05}}));
+  EXPECT_NO_THROW(push_inward(t, m, {{3, {0.05}}}));
   // A deep push that would drive the fan through the small triangle is halved until S is clean.
   const float before = t.positions[3].z;
-  push_inward(t, m, {{3, 0.6}});
+  push_inward(t, m, {{3, {0.6}}});
   EXPECT_LT(t.positions[3].z, before);
   EXPECT_GT(t.positions[3].z, before - 0.6f + 1e-3f);
   std::vector<glm::dvec3> x;
@@ -105,7 +124,7 @@ TEST(PiecesRim, CrossingFacesElsewhereDoNotHoldAPushBack) {
   std::vector<TriangleIds> tris;
   for (const glm::uvec4& f : t.faces) tris.push_back({f.x, f.y, f.z});
   ASSERT_EQ(find_self_intersections(x, tris, 4).size(), 1u);
-  push_inward(t, m, {{3, 0.25}});
+  push_inward(t, m, {{3, {0.25}}});
   EXPECT_NEAR(t.positions[3].z, 0.65, 1e-6);
 }
 
@@ -170,7 +189,14 @@ TEST(PiecesClashes, CrossingsNameTheMovableVertices) {
   const std::vector<std::uint8_t> on_b = {1, 0, 0, 0, 0, 0, 1, 1, 1, 0};
   const Clashes both = find_clashes(x, {{0, 1, 2}, {3, 4, 5}}, {{6, 7, 8}}, on_b, 6);
   EXPECT_EQ(both.pairs, 2u);
-  EXPECT_EQ(both.poking, (std::set<std::uint32_t>{1, 2}));
+  ASSERT_EQ(both.poking.size(), 2u);
+  // Pushed along the inward normal of the B triangle they cross (B is outward-facing: 6-7-8
+  // faces -x -y, so inward is +x +y).
+  const glm::dvec3 inward = glm::normalize(glm::dvec3(0.2, 0.2, -0.01));
+  for (std::uint32_t v : {1u, 2u}) {
+    ASSERT_EQ(both.poking.count(v), 1u);
+    EXPECT_NEAR(glm::distance(both.poking.at(v), inward), 0.0, 1e-12);
+  }
   EXPECT_EQ(both.folded, (std::set<std::uint32_t>{1, 2, 3, 4, 5}));
   const Clashes none = find_clashes(x, {{0, 1, 2}}, {{7, 8, 9}}, on_b, 6);
   EXPECT_EQ(none.pairs, 0u);

@@ -65,7 +65,8 @@ struct PokingOut : RunError {
   struct Vertex {
     double depth, limit;
     glm::dvec3 at;
-    std::uint32_t nearest = 0;  // the neighbour at its shortest edge
+    std::vector<std::uint32_t> neighbours;  // its neighbours in S, nearest first
+    glm::dvec3 direction{0.0};  // which way to push (see Push)
   };
   explicit PokingOut(std::map<std::uint32_t, Vertex> v) : RunError("poking out"), vertices(std::move(v)) {}
   std::map<std::uint32_t, Vertex> vertices;
@@ -90,7 +91,7 @@ struct Retries {
   std::vector<std::uint32_t> left_out;  // flaps to leave out
   // Faces whose boundary edge is traced along their normal -> the push round it was decided in.
   std::map<std::uint32_t, std::size_t> along_normal;
-  std::map<std::uint32_t, double> pushed;  // S vertex -> how far it is pushed into B
+  std::map<std::uint32_t, Push> pushed;  // S vertex -> how far (and which way) it is pushed into B
   std::map<std::uint32_t, double> relaxed;  // S vertex -> fraction of the way to its neighbours
   std::vector<std::pair<std::uint32_t, std::uint32_t>> contractions;  // S edges (gone, keep)
   std::size_t push_rounds = 0, attempts = 0;
@@ -125,19 +126,22 @@ struct Retries {
   // After fracture triangles poked out of B; false when a vertex would go too far.
   bool next(const PokingOut& poking, std::string& why) {
     for (const auto& [v, p] : poking.vertices) {
-      double& push = pushed[v];
-      push += kPushFactor * p.depth;
-      if (push <= p.limit && push_rounds < kMaxPushRounds) continue;
+      Push& push = pushed[v];
+      push.distance += kPushFactor * p.depth;
+      push.direction = p.direction;
+      if (push.distance <= p.limit && push_rounds < kMaxPushRounds) continue;
       // Pushed as far as it may go: the vertex is contracted into its nearest neighbour instead
-      // (a sliver of S sticking out), once.
-      const std::pair<std::uint32_t, std::uint32_t> c{v, p.nearest};
-      if (std::count(contractions.begin(), contractions.end(), c)) {
+      // (a sliver of S sticking out), or, when that was tried, into the next nearest.
+      const auto untried = std::find_if(p.neighbours.begin(), p.neighbours.end(), [&](std::uint32_t w) {
+        return !std::count(contractions.begin(), contractions.end(), std::pair{v, w});
+      });
+      if (untried == p.neighbours.end()) {
         why = "the faces of fracture surface vertex " + std::to_string(v) + " at " + format_point(p.at) +
               " poke out of the exterior by " + std::to_string(p.depth) +
               " (the fracture surface crosses the exterior near its rim), still after pushing it inward";
         return false;
       }
-      contractions.push_back(c);
+      contractions.emplace_back(v, *untried);
       pushed.erase(v);
     }
     ++push_rounds;
@@ -488,9 +492,26 @@ class PieceBuilder {
     const auto poking = poking_vertices(m_, out_.positions, triangles, cut_.on_b, out_.s_vertex_count, kPokeTolerance * m_.diagonal);
     if (poking.empty()) return;
     std::map<std::uint32_t, PokingOut::Vertex> vertices;
-    for (const auto& [v, depth] : poking) vertices[v] = {depth, std::numeric_limits<double>::infinity(), out_.positions[v]};
-    for (auto& [v, p] : vertices) p.limit = kMaxPush * shortest_edge(v, &p.nearest);
+    for (const auto& [v, push] : poking)
+      vertices[v] = {push.distance, std::numeric_limits<double>::infinity(), out_.positions[v], {}, push.direction};
+    for (auto& [v, p] : vertices) {
+      p.neighbours = neighbours_by_distance(v);
+      p.limit = kMaxPush * (p.neighbours.empty() ? 0.0 : glm::distance(out_.positions[v], out_.positions[p.neighbours[0]]));
+    }
     throw PokingOut(std::move(vertices));
+  }
+
+  std::vector<std::uint32_t> neighbours_by_distance(std::uint32_t v) const {
+    std::vector<std::pair<double, std::uint32_t>> ring;
+    for (std::uint32_t k = s_.vf_offsets[v]; k < s_.vf_offsets[v + 1]; ++k)
+      for (int c = 0; c < 3; ++c)
+        if (const std::uint32_t w = s_.faces[s_.vf_faces[k]][c]; w != v)
+          ring.emplace_back(glm::length(out_.positions[v] - out_.positions[w]), w);
+    std::sort(ring.begin(), ring.end());
+    std::vector<std::uint32_t> out;
+    for (const auto& [d, w] : ring)
+      if (out.empty() || out.back() != w) out.push_back(w);
+    return out;
   }
 
   double shortest_edge(std::uint32_t v, std::uint32_t* nearest = nullptr) const {
@@ -516,10 +537,9 @@ class PieceBuilder {
     if (c.pairs == 0) return;
     if (!c.poking.empty()) {
       std::map<std::uint32_t, PokingOut::Vertex> vertices;
-      for (std::uint32_t v : c.poking) {
-        std::uint32_t nearest = 0;
-        const double shortest = shortest_edge(v, &nearest);
-        vertices[v] = {kClashPush * shortest, kMaxPush * shortest, out_.positions[v], nearest};
+      for (const auto& [v, direction] : c.poking) {
+        const double shortest = shortest_edge(v);
+        vertices[v] = {kClashPush * shortest, kMaxPush * shortest, out_.positions[v], neighbours_by_distance(v), direction};
       }
       throw PokingOut(std::move(vertices));
     }

@@ -47,15 +47,18 @@
 //     the trace where it sees the edge); either way the build starts again.
 // 3b. Push. Where S crosses B near its rim (it hugs B, or B is concave under it), a fracture
 //     triangle with a corner on B pokes out of B (sampled on a grid): the build starts again
-//     with its S vertices off B pushed into B along the normal of B's nearest triangle, a
-//     quarter farther than each alone would have to go to take the deepest poke back, at most
+//     with its S vertices off B pushed into B from the deepest poke toward its closest point on
+//     B (not along the normal nearest the vertex: on a thin B the poke may cross the far side),
+//     a quarter farther than each alone would have to go to take the deepest poke back, at most
 //     the vertex's shortest edge over 8 rounds, and only while S stays free of
 //     self-intersections; a vertex that would have to go farther is contracted into its nearest
-//     neighbour instead (once). (Step 0 already moved every rim vertex whose inner edge leaves it
+//     neighbour instead, and when that contraction is refused, into the next nearest, and so
+//     on. (Step 0 already moved every rim vertex whose inner edge leaves it
 //     outside B to where that edge enters B, unless S would then cross itself.)
 // 3c. Clashes. The fracture triangles and the cut B triangles are tested for intersections
 //     exactly (the grid of 3b can miss a thin poke). A fracture triangle through a B triangle
-//     pushes its S vertices off B as in 3b (a tenth of their shortest edge per round); two
+//     pushes its S vertices off B as in 3b (a tenth of their shortest edge per round, along the
+//     inward normal of the B triangles crossed); two
 //     fracture triangles through each other (a pleat of S next to the rim: tiny faces folded
 //     onto each other, crossed once the traces bend the rim faces toward B) start the build
 //     again with the shortest edge at their S vertices off B contracted (one per attempt, only

@@ -231,14 +231,23 @@ FractureSurface repair_boundary(FractureSurface s, const ExteriorMesh& m, double
                                 const std::vector<std::pair<std::uint32_t, std::uint32_t>>& contractions,
                                 RepairReport& report);
 
+/// How far, and which way, to push an S vertex into B. A zero direction means along the inward
+/// normal of B's triangle nearest to the vertex.
+struct Push {
+  double distance = 0.0;
+  glm::dvec3 direction{0.0};
+};
+
 /// The S vertices off B (ids below s_vertex_count with on_b unset) of the triangles with a
 /// corner on B whose inside pokes out of B by more than `tolerance` (sampled on a grid), each
 /// with how far it alone would have to move to take the deepest such poke back (the poke over
-/// its weight there). S crosses B there: near its rim where B is concave, or where it hugs B.
-std::map<std::uint32_t, double> poking_vertices(const ExteriorMesh& m, const std::vector<glm::dvec3>& positions,
-                                                const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                                                const std::vector<std::uint8_t>& on_b, std::uint32_t s_vertex_count,
-                                                double tolerance);
+/// its weight there) and which way: from that poke point to its closest point on B. S crosses
+/// B there: near its rim where B is concave, or where it hugs B. (The inward normal of B nearest
+/// to the vertex can point the wrong way on a thin B: the poke may cross the opposite side.)
+std::map<std::uint32_t, Push> poking_vertices(const ExteriorMesh& m, const std::vector<glm::dvec3>& positions,
+                                              const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                              const std::vector<std::uint8_t>& on_b, std::uint32_t s_vertex_count,
+                                              double tolerance);
 
 /// Moves every rim vertex of S (kVertexBoundary) one of whose inner edges (to a vertex off the
 /// rim) leaves it outside B to where that edge enters B (the farthest such point, at most 0.3
@@ -246,16 +255,18 @@ std::map<std::uint32_t, double> poking_vertices(const ExteriorMesh& m, const std
 /// would make S intersect itself at one of its faces stays. Returns how many moved.
 std::uint32_t retract_rim(FractureSurface& s, const ExteriorMesh& m, double tolerance);
 
-/// Moves each vertex of `push` that far into B, along the normal of B's triangle nearest to it.
-/// A vertex whose push makes S intersect itself at one of its faces has its push halved until S
-/// is clean, and after 6 halvings stays where it was (the poke it leaves is reported later).
-void push_inward(FractureSurface& s, const ExteriorMesh& m, const std::map<std::uint32_t, double>& push);
+/// Moves each vertex of `push` its distance into B, along its direction (see Push). A vertex
+/// whose push makes S intersect itself at one of its faces has its push halved until S is clean,
+/// and after 6 halvings stays where it was (the poke it leaves is reported later).
+void push_inward(FractureSurface& s, const ExteriorMesh& m, const std::map<std::uint32_t, Push>& push);
 
 /// The exact intersections among the fracture triangles (remeshed S faces) and the cut B
 /// triangles of an attempt, as vertices a retry can move. At most 256 pairs are looked at.
 struct Clashes {
   std::size_t pairs = 0;  ///< intersecting pairs looked at
-  std::set<std::uint32_t> poking;  ///< S vertices off B of fracture triangles that cross B triangles
+  /// S vertices off B of fracture triangles that cross B triangles -> the unit inward normal of
+  /// those B triangles (their sum, normalised; zero if it cancels out)
+  std::map<std::uint32_t, glm::dvec3> poking;
   std::set<std::uint32_t> folded;  ///< S vertices off B of fracture triangles that cross each other
   std::array<std::array<std::uint32_t, 3>, 2> first{};  ///< the first pair, for messages
   std::array<bool, 2> first_is_exterior{};               ///< whether each is a B triangle

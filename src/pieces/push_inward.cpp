@@ -21,16 +21,17 @@ constexpr double kMaxRetract = 0.3;
 constexpr int kPushHalvings = 6;
 
 // How far the inside of triangle (a, b, c) lies outside B at most (0: not beyond `tolerance`),
-// and the barycentric weights of the corners there.
+// the barycentric weights of the corners there and the unit direction from there back to B.
 double poke_depth(const ExteriorMesh& m, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, double tolerance,
-                  glm::dvec3& weights) {
+                  glm::dvec3& weights, glm::dvec3& back) {
   double worst = 0.0;
   for (int i = 1; i < kSampleGrid; ++i)
     for (int j = 1; i + j < kSampleGrid; ++j) {
       const double u = double(i) / kSampleGrid, v = double(j) / kSampleGrid;
       const glm::dvec3 x = (1.0 - u - v) * a + u * b + v * c;
-      const double d = std::sqrt(closest_point(m.bvh, x).squared_distance);
-      if (d > tolerance && d > worst && !point_in_mesh(m.bvh, x)) worst = d, weights = {1.0 - u - v, u, v};
+      const ClosestPoint q = closest_point(m.bvh, x);
+      const double d = std::sqrt(q.squared_distance);
+      if (d > tolerance && d > worst && !point_in_mesh(m.bvh, x)) worst = d, weights = {1.0 - u - v, u, v}, back = (q.point - x) / d;
     }
   return worst;
 }
@@ -154,20 +155,23 @@ std::uint32_t retract_rim(FractureSurface& s, const ExteriorMesh& m, double tole
   return move_clear_of_itself(s, offset, 0);
 }
 
-std::map<std::uint32_t, double> poking_vertices(const ExteriorMesh& m, const std::vector<glm::dvec3>& positions,
-                                                const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                                                const std::vector<std::uint8_t>& on_b, std::uint32_t s_vertex_count,
-                                                double tolerance) {
-  std::map<std::uint32_t, double> out;
+std::map<std::uint32_t, Push> poking_vertices(const ExteriorMesh& m, const std::vector<glm::dvec3>& positions,
+                                              const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                              const std::vector<std::uint8_t>& on_b, std::uint32_t s_vertex_count,
+                                              double tolerance) {
+  std::map<std::uint32_t, Push> out;
   for (const auto& t : triangles) {
     if (!on_b[t[0]] && !on_b[t[1]] && !on_b[t[2]]) continue;  // only S's rim meets B
-    glm::dvec3 weights(0.0);
-    const double depth = poke_depth(m, positions[t[0]], positions[t[1]], positions[t[2]], tolerance, weights);
+    glm::dvec3 weights(0.0), back(0.0);
+    const double depth = poke_depth(m, positions[t[0]], positions[t[1]], positions[t[2]], tolerance, weights, back);
     if (depth == 0.0) continue;
     // Moving a corner moves the deepest point by its weight: each corner off B alone would have
     // to go depth / weight.
-    for (int k = 0; k < 3; ++k)
-      if (t[k] < s_vertex_count && !on_b[t[k]]) out[t[k]] = std::max(out[t[k]], depth / weights[k]);
+    for (int k = 0; k < 3; ++k) {
+      if (t[k] >= s_vertex_count || on_b[t[k]]) continue;
+      Push& p = out[t[k]];
+      if (depth / weights[k] > p.distance) p = {depth / weights[k], back};
+    }
   }
   return out;
 }
@@ -175,11 +179,12 @@ std::map<std::uint32_t, double> poking_vertices(const ExteriorMesh& m, const std
 // A full push can drive a vertex through a nearby sheet of S (two sheets drawn to the same weak
 // vein run close): such a push is halved, and given up after kPushHalvings; a poke it leaves is
 // reported by the next check.
-void push_inward(FractureSurface& s, const ExteriorMesh& m, const std::map<std::uint32_t, double>& push) {
+void push_inward(FractureSurface& s, const ExteriorMesh& m, const std::map<std::uint32_t, Push>& push) {
   std::map<std::uint32_t, glm::dvec3> offset;
-  for (const auto& [v, distance] : push) {
-    const glm::dvec3 p(glm::vec3(s.positions[v]));
-    offset[v] = -distance * m.face_normals[closest_point(m.bvh, p).triangle];
+  for (const auto& [v, p] : push) {
+    glm::dvec3 direction = p.direction;
+    if (direction == glm::dvec3(0.0)) direction = -m.face_normals[closest_point(m.bvh, glm::dvec3(glm::vec3(s.positions[v]))).triangle];
+    offset[v] = p.distance * direction;
   }
   move_clear_of_itself(s, offset, kPushHalvings);
 }
