@@ -82,9 +82,11 @@ TEST(RefineContainment, ChordBetweenTwoRimVerticesIsSplit) {
   EXPECT_EQ(s.faces.size(), 4u);
   EXPECT_EQ(glm::vec3(s.positions[4]), glm::vec3(0.5f, 0.5f, 0.5f));  // deep inside: not moved
   EXPECT_EQ(tree.parents[4], glm::uvec3(0, 2, 0));
-  for (std::uint32_t e = 0; e < s.edges.size(); ++e)
-    if (s.edge_special[e] != kEdgeBoundary)
+  for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
+    if (s.edge_special[e] != kEdgeBoundary) {
       EXPECT_FALSE((s.vertex_flags[s.edges[e].x] & kVertexBoundary) && (s.vertex_flags[s.edges[e].y] & kVertexBoundary));
+    }
+  }
   EXPECT_EQ(split_rim_chords(s, tree, b, TuckOptions{b.diagonal()}), 0u);
 }
 
