@@ -228,6 +228,23 @@ TEST(GeomIntersect, PushedVertexMatchesBruteForceForAnyThreadCount) {
   }
 }
 
+// query_faces: only pairs whose first face is below it (the faces after it are tested against
+// the ones before only, never against each other).
+TEST(GeomIntersect, QueryFacesLimitsThePairsToThoseWithAnEarlyFace) {
+  auto sphere = fracref::make_uv_sphere({0, 0, 0}, 1.0, 12, 16);
+  sphere.positions[40] = -1.3 * sphere.positions[40];
+  const auto all = find_self_intersections(sphere.positions, sphere.triangles, 1000);
+  ASSERT_GT(all.size(), 2u);
+  const std::uint32_t cut = all[all.size() / 2].first + 1;  // some pairs start below, some above
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> expected;
+  for (const auto& p : all)
+    if (p.first < cut) expected.push_back(p);
+  ASSERT_LT(expected.size(), all.size());
+  fracref::SelfIntersectionOptions options;
+  options.query_faces = cut;
+  EXPECT_EQ(find_self_intersections(sphere.positions, sphere.triangles, options), expected);
+}
+
 TEST(GeomIntersect, BadFacesAreRejectedWithTheirIndex) {
   const std::vector<dvec3> pos{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   try {

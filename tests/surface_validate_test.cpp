@@ -41,6 +41,21 @@ TEST(SurfaceValidate, ExamplesAreValid) {
   EXPECT_NO_THROW(validate_or_throw(example_cross(2)));
 }
 
+// After rebuild_adjacency, validate_rebuilt gives validate's verdict without the second rebuild.
+TEST(SurfaceValidate, RebuiltSurfacesGetValidatesVerdict) {
+  FractureSurface s = example_cross(3);
+  EXPECT_EQ(validate_rebuilt(s), "");
+  s.face_pieces[0] = glm::ivec2(s.face_pieces[0].y, s.face_pieces[0].x);  // one face turned inside out
+  rebuild_adjacency(s);
+  ASSERT_NE(validate(s), "");
+  EXPECT_EQ(validate_rebuilt(s), validate(s));
+  FractureSurface t = example_sheet(3);
+  t.faces[1] = t.faces[0];  // the same vertex set twice
+  rebuild_adjacency(t);
+  ASSERT_NE(validate(t), "");
+  EXPECT_EQ(validate_rebuilt(t), validate(t));
+}
+
 TEST(SurfaceValidate, StaleVertexFacesAfterMovingAFaceIndex) {
   FractureSurface s = example_sheet(3);
   s.faces[0].y = 4;  // (0 1 2) -> (0 4 2): vertex 1 still lists face 0

@@ -39,9 +39,13 @@ bool mesh_faces_intersect(const std::vector<glm::dvec3>& positions, const Triang
 struct SelfIntersectionOptions {
   std::size_t max_report = std::numeric_limits<std::size_t>::max();  ///< stop after this many
   int threads = 2;                                                    ///< worker threads (>= 1)
+  /// Only pairs whose first face is below this index are looked for (faces from here on are
+  /// only tested against the ones before: e.g. a fracture surface's faces followed by exterior
+  /// faces that cannot meet each other).
+  std::size_t query_faces = std::numeric_limits<std::size_t>::max();
 };
 
-/// The pairs (i, j), i < j, of faces for which mesh_faces_intersect holds, sorted, truncated to
+/// The pairs (i, j), i < j, i < options.query_faces, of faces for which mesh_faces_intersect holds, sorted, truncated to
 /// the first `max_report` in that order (so the answer does not depend on `threads`).
 /// Broad phase: an AABB tree over the face boxes (closed boxes, so touching faces are found).
 /// \throw InputError when a face has an id out of range or a repeated id (names the face).

@@ -21,7 +21,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> find_self_intersections(
   BvhOptions tree_options;
   tree_options.threads = options.threads;
   const Bvh tree = build_bvh(positions, triangles, tree_options);  // validates indices and coordinates
-  const std::size_t n = triangles.size();
+  const std::size_t n = std::min(triangles.size(), options.query_faces);
   const std::size_t chunks = geom_detail::chunk_count(n);
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> parts(chunks);
   geom_detail::parallel_chunks(n, chunks, options.threads, [&](std::size_t c, std::size_t begin, std::size_t end) {

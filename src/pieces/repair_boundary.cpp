@@ -18,7 +18,7 @@ bool try_faces(FractureSurface& s, std::vector<glm::uvec4> faces, std::vector<gl
   candidate.faces = std::move(faces);
   candidate.face_pieces = std::move(pieces);
   rebuild_adjacency(candidate);
-  if (!validate(candidate).empty()) return false;
+  if (!validate_rebuilt(candidate).empty()) return false;
   s = std::move(candidate);
   origin = std::move(new_origin);
   return true;

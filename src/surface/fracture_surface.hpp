@@ -136,6 +136,12 @@ std::vector<int> component_pieces(const FractureSurface& s);
 /// boundary edge.
 std::string validate(const FractureSurface& s);
 
+/// validate() without its comparison of the derived arrays with a fresh rebuild: for a surface
+/// whose adjacency rebuild_adjacency() has just built (they are equal by construction), where an
+/// edit is judged by whether the new faces make a valid S, and the full check would rebuild it
+/// a second time. \pre rebuild_adjacency(s) ran after the last change to s.
+std::string validate_rebuilt(const FractureSurface& s);
+
 /// validate(), throwing its message. For use after mutations in tests and debug builds.
 /// \throw RunError with validate()'s message when an invariant is broken.
 void validate_or_throw(const FractureSurface& s);

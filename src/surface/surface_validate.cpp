@@ -306,4 +306,12 @@ std::string validate(const FractureSurface& s) {
   return "";
 }
 
+std::string validate_rebuilt(const FractureSurface& s) {
+  using Check = std::string (*)(const FractureSurface&);
+  for (Check check : {check_primary_sizes, check_vertices, check_faces, check_derived_shapes, check_component_pieces,
+                      check_piece_edges})
+    if (std::string m = check(s); !m.empty()) return m;
+  return "";
+}
+
 }  // namespace fracref
