@@ -298,20 +298,21 @@ std::string check_derived(const FractureSurface& s) {
 
 }  // namespace
 
-std::string validate(const FractureSurface& s) {
-  using Check = std::string (*)(const FractureSurface&);
-  for (Check check : {check_primary_sizes, check_vertices, check_faces, check_derived, check_component_pieces,
-                      check_piece_edges})
+namespace {
+
+using Check = std::string (*)(const FractureSurface&);
+
+// The invariants in validate()'s order; `derived` checks the derived arrays.
+std::string first_problem(const FractureSurface& s, Check derived) {
+  for (Check check : {check_primary_sizes, check_vertices, check_faces, derived, check_component_pieces, check_piece_edges})
     if (std::string m = check(s); !m.empty()) return m;
   return "";
 }
 
-std::string validate_rebuilt(const FractureSurface& s) {
-  using Check = std::string (*)(const FractureSurface&);
-  for (Check check : {check_primary_sizes, check_vertices, check_faces, check_derived_shapes, check_component_pieces,
-                      check_piece_edges})
-    if (std::string m = check(s); !m.empty()) return m;
-  return "";
-}
+}  // namespace
+
+std::string validate(const FractureSurface& s) { return first_problem(s, check_derived); }
+
+std::string validate_rebuilt(const FractureSurface& s) { return first_problem(s, check_derived_shapes); }
 
 }  // namespace fracref
