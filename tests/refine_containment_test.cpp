@@ -90,5 +90,24 @@ TEST(RefineContainment, ChordBetweenTwoRimVerticesIsSplit) {
   EXPECT_EQ(split_rim_chords(s, tree, b, TuckOptions{b.diagonal()}), 0u);
 }
 
+// The same cross-section 0.0005 over the cube's floor, with a small sheet of S floating 0.0012
+// over its centre: the chord's midpoint is nearer to B than the margin (0.00173), and moved up
+// to it the new faces would cut the small sheet; split at the midpoint itself they stay flat.
+TEST(RefineContainment, ChordNearBIsSplitAtItsMidpointWhenTheMoveInwardIsBlocked) {
+  const ExteriorSurface b = make_exterior(pieces_test::voxel_surface({{0, 0, 0}}, 1.0), "cube");
+  const float z = 0.0005f, h = 0.0012f;
+  const std::vector<glm::vec4> positions = {{0, 0, z, 1},          {1, 0, z, 1},          {1, 1, z, 1},
+                                            {0, 1, z, 1},          {0.2f, 0.5f, h, 1},    {0.8f, 0.3f, h, 1},
+                                            {0.7f, 0.8f, h, 1}};
+  FractureSurface s = make_fracture_surface(positions, {{0, 1, 2, 0}, {0, 2, 3, 0}, {4, 5, 6, 0}},
+                                            {{1, 0}, {1, 0}, {1, 0}}, 2);
+  RefinementTree tree = RefinementTree::identity(s.positions.size());
+  EXPECT_EQ(split_rim_chords(s, tree, b, TuckOptions{b.diagonal()}), 1u);
+  EXPECT_EQ(validate(s), "");
+  ASSERT_EQ(s.positions.size(), 8u);
+  EXPECT_EQ(glm::vec3(s.positions[7]), glm::vec3(0.5f, 0.5f, z));
+  EXPECT_TRUE(find_self_intersections(double_positions(s), face_triangles(s), 1).empty());
+}
+
 }  // namespace
 }  // namespace fracref

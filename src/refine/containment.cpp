@@ -238,9 +238,12 @@ std::size_t split_rim_chords(FractureSurface& s, RefinementTree& tree, const Ext
       continue;
     const glm::dvec3 mid = 0.5 * (at(s, ab.x) + at(s, ab.y));
     const double margin = std::min(o.margin * o.scale, 0.1 * glm::distance(at(s, ab.x), at(s, ab.y)));
+    const bool mid_inside = b.contains(mid);
     glm::dvec3 q = mid;
-    if (!b.contains(mid) || b.squared_distance(mid) < margin * margin) q = inside_target(b, mid, margin);
-    if (b.contains(q)) batch.add_edge(e, 0.5f, q);
+    if (!mid_inside || b.squared_distance(mid) < margin * margin) q = inside_target(b, mid, margin);
+    // Moved inward, the new faces bend and can cut a neighbouring face at the rim.
+    if (b.contains(q) && batch.add_edge(e, 0.5f, q)) continue;
+    if (q != mid && mid_inside) batch.add_edge(e, 0.5f, mid);
   }
   return batch.apply(s, tree);
 }

@@ -42,8 +42,10 @@ std::size_t tuck_inside(FractureSurface& s, RefinementTree& tree, const Exterior
 /// Splits every interior edge of S whose two ends lie on B (a chord: the pieces stage's
 /// re-triangulation of B may join the same two vertices, and the piece would then have an edge
 /// with four faces) at its midpoint, moved inside B by min(margin · scale, a tenth of the edge)
-/// when it is outside or nearer to B than that. One pass, each face split at most once; a split
-/// whose new faces would meet another face of S is not made. Returns the number of splits.
+/// when it is outside or nearer to B than that; when the faces of that split would meet another
+/// face of S, at the midpoint itself if it is inside B (the new faces then keep the old ones'
+/// planes). One pass, each face split at most once; a split whose new faces would meet another
+/// face of S is not made. Returns the number of splits.
 /// \pre s valid, tree covers every vertex of s.
 std::size_t split_rim_chords(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& exterior,
                              const TuckOptions& options = {});
