@@ -45,8 +45,9 @@ struct SelfIntersectionOptions {
   std::size_t query_faces = std::numeric_limits<std::size_t>::max();
 };
 
-/// The pairs (i, j), i < j, i < options.query_faces, of faces for which mesh_faces_intersect holds, sorted, truncated to
-/// the first `max_report` in that order (so the answer does not depend on `threads`).
+/// The pairs (i, j), i < j and i < options.query_faces, of faces for which mesh_faces_intersect
+/// holds, sorted, truncated to the first `max_report` in that order (so the answer does not
+/// depend on `threads`).
 /// Broad phase: an AABB tree over the face boxes (closed boxes, so touching faces are found).
 /// \throw InputError when a face has an id out of range or a repeated id (names the face).
 std::vector<std::pair<std::uint32_t, std::uint32_t>> find_self_intersections(
