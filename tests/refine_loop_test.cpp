@@ -226,6 +226,31 @@ TEST(RefineLoop, FlipThatWouldCutAnotherSheetIsSkipped) {
   EXPECT_NE(find_edge(s, 0, 1), kNoEdge);
 }
 
+// The flips' guard tests run in parallel: the pass flips the same edges on any thread count.
+TEST(RefineLoop, FlipsDoNotDependOnTheThreadCount) {
+  // A 40 x 40 grid sheet with every other row squashed toward its neighbour: many slim faces.
+  std::vector<glm::vec4> p;
+  const int n = 40;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      p.push_back({float(i) + 0.3f * float((i * 7 + j * 3) % 5) / 5.0f, float(j) + (j % 2 ? 0.85f : 0.0f), 0.01f * float((i * j) % 3), 1});
+  std::vector<glm::uvec4> f;
+  auto id = [&](int i, int j) { return std::uint32_t(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) f.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), 0}), f.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1), 0});
+  const FractureSurface start = make_fracture_surface(p, f, std::vector<glm::ivec2>(f.size(), glm::ivec2(1, 0)), 2);
+  std::vector<glm::vec4> psi(start.positions.size(), glm::vec4(1.0f, 0.0f, 0.0f, 0.0f));
+  ExteriorSurface none;
+  FractureSurface one = start, three = start;
+  FlipOptions o{20.0, 25.0, 1};
+  const std::size_t flips = flip_slim_triangles(one, psi, none, o);
+  o.threads = 3;
+  EXPECT_EQ(flip_slim_triangles(three, psi, none, o), flips);
+  EXPECT_GT(flips, 100u);
+  EXPECT_EQ(one.faces, three.faces);
+  EXPECT_EQ(validate(three), "");
+}
+
 TEST(RefineLoop, ThreePieceJunctionStaysValidAndIntersectionFree) {
   // The T-junction example: z = 0 over x in [-1, 1], y in [0, 3], and x = 0 for z in [0, 1];
   // its boundary lies on the box [-1, 1] x [0, 3] x [-1, 1].

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "geom/parallel.hpp"
+
 namespace fracref {
 
 FaceGuard::FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces)
@@ -29,20 +31,54 @@ bool FaceGuard::clear(const std::vector<TriangleIds>& faces, const std::vector<s
   for (const TriangleIds& t : faces) box.expand(box_of(t));
   std::vector<std::uint32_t> hits;
   query_box(bvh_, box, hits);
-  std::vector<std::uint32_t> in_run;
-  for (const Run& run : runs_) {
-    in_run.clear();
-    query_box(run.tree, box, in_run);
-    for (std::uint32_t k : in_run) hits.push_back(std::uint32_t(s_faces_ + run.begin + k));
-  }
-  for (std::size_t k = runs_.empty() ? 0 : runs_.back().end; k < new_boxes_.size(); ++k)
-    if (new_boxes_[k].overlaps(box)) hits.push_back(std::uint32_t(s_faces_ + k));
   for (std::uint32_t g : hits) {
-    if (g < s_faces_ && (gone_[g] || std::find(replaced.begin(), replaced.end(), g) != replaced.end())) continue;
+    if (gone_[g] || std::find(replaced.begin(), replaced.end(), g) != replaced.end()) continue;
     for (const TriangleIds& t : faces)
       if (mesh_faces_intersect(x_, t, faces_[g])) return false;
   }
+  return clear_of_accepted(faces);
+}
+
+bool FaceGuard::clear_of_accepted(const std::vector<TriangleIds>& faces) const {
+  Aabb box;
+  for (const TriangleIds& t : faces) box.expand(box_of(t));
+  std::vector<std::uint32_t> hits;
+  for (const Run& run : runs_) {
+    const std::size_t first = hits.size();
+    query_box(run.tree, box, hits);
+    for (std::size_t k = first; k < hits.size(); ++k) hits[k] += std::uint32_t(run.begin);
+  }
+  for (std::size_t k = runs_.empty() ? 0 : runs_.back().end; k < new_boxes_.size(); ++k)
+    if (new_boxes_[k].overlaps(box)) hits.push_back(std::uint32_t(k));
+  for (std::uint32_t k : hits)
+    for (const TriangleIds& t : faces)
+      if (mesh_faces_intersect(x_, t, faces_[s_faces_ + k])) return false;
   return true;
+}
+
+std::vector<std::vector<std::uint32_t>> FaceGuard::snapshot_blockers(const std::vector<std::vector<TriangleIds>>& faces,
+                                                                     const std::vector<std::vector<std::uint32_t>>& replaced,
+                                                                     int threads) const {
+  std::vector<std::vector<std::uint32_t>> out(faces.size());
+  geom_detail::parallel_chunks(faces.size(), geom_detail::chunk_count(faces.size(), 64), threads,
+                               [&](std::size_t, std::size_t begin, std::size_t end) {
+    std::vector<std::uint32_t> hits;
+    for (std::size_t k = begin; k < end; ++k) {
+      Aabb box;
+      for (const TriangleIds& t : faces[k]) box.expand(box_of(t));
+      hits.clear();
+      query_box(bvh_, box, hits);
+      for (std::uint32_t g : hits) {
+        if (std::find(replaced[k].begin(), replaced[k].end(), g) != replaced[k].end()) continue;
+        for (const TriangleIds& t : faces[k])
+          if (mesh_faces_intersect(x_, t, faces_[g])) {
+            out[k].push_back(g);
+            break;
+          }
+      }
+    }
+  });
+  return out;
 }
 
 void FaceGuard::accept(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) {

@@ -31,6 +31,18 @@ class FaceGuard {
   }
   bool clear(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const;
 
+  /// clear() in two parts, for many candidate edits judged at once. First, for every edit k, the
+  /// faces of the snapshot other than replaced[k] that faces[k] meet, ignoring every edit
+  /// accepted so far (independent per edit: run on `threads` threads, the answer does not depend
+  /// on their number). Then clear(faces, replaced) is exactly: every one of those blockers is
+  /// gone() and clear_of_accepted(faces).
+  std::vector<std::vector<std::uint32_t>> snapshot_blockers(const std::vector<std::vector<TriangleIds>>& faces,
+                                                            const std::vector<std::vector<std::uint32_t>>& replaced,
+                                                            int threads) const;
+  bool gone(std::uint32_t snapshot_face) const { return gone_[snapshot_face] != 0; }
+  /// Whether `faces` meet no face accepted so far.
+  bool clear_of_accepted(const std::vector<TriangleIds>& faces) const;
+
   /// Records an accepted edit: `replaced` faces of the mesh are gone, `faces` exist.
   void accept(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced) {
     accept(std::vector<TriangleIds>(faces), std::vector<std::uint32_t>(replaced));

@@ -65,40 +65,67 @@ bool touches_junction(const FractureSurface& s, glm::uvec2 ab, glm::uvec2 cd) {
   return false;
 }
 
-}  // namespace
+// A flip that passes every test that does not depend on the pass's earlier flips.
+struct FlipCandidate {
+  std::uint32_t edge;
+  glm::uvec2 opposite, faces;
+};
 
-std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> samples, const ExteriorSurface&,
-                                const FlipOptions& o) {
-  std::vector<char> used(s.faces.size(), 0);
-  std::set<std::pair<std::uint32_t, std::uint32_t>> created;  // edges this pass made (adjacency is stale)
-  std::size_t flips = 0;
-  std::optional<FaceGuard> guard;  // built on the first candidate: most passes flip little
+// Candidates in edge order. Judged on S as the pass found it: a face flipped earlier in the pass
+// is `used` and skipped later, and flip_edge leaves the other faces and the (stale) adjacency as
+// they were, so each test below gives the answer it would give at its turn.
+std::vector<FlipCandidate> candidate_flips(const FractureSurface& s, std::span<const glm::vec4> samples, const FlipOptions& o) {
   auto x = [&](std::uint32_t v) { return glm::dvec3(glm::vec3(s.positions[v])); };
-  // Only edges of a slim face are candidates: judged once per face (positions do not change in
-  // the pass; a flipped face is `used`), before the costlier tests of each edge.
+  // Only edges of a slim face are candidates: judged once per face, before the costlier tests.
   std::vector<char> slim(s.faces.size(), 0);
   for (std::size_t f = 0; f < s.faces.size(); ++f)
     slim[f] = min_angle_degrees(x(s.faces[f].x), x(s.faces[f].y), x(s.faces[f].z)) < o.min_angle;
+  std::vector<FlipCandidate> out;
   for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
     glm::uvec2 cd, ff;
     if (s.edge_special[e] != kEdgeRegular) continue;
     const std::uint32_t f1 = s.ef_faces[s.ef_offsets[e]], f2 = s.ef_faces[s.ef_offsets[e] + 1];
-    if (used[f1] || used[f2] || !(slim[f1] || slim[f2])) continue;
-    if (!flip_candidates(s, e, cd, ff)) continue;
-    glm::uvec2 ab = s.edges[e];
+    if (!(slim[f1] || slim[f2]) || !flip_candidates(s, e, cd, ff)) continue;
+    const glm::uvec2 ab = s.edges[e];
     if (touches_junction(s, ab, cd)) continue;
-    Quad q{x(ab.x), x(ab.y), x(cd.x), x(cd.y), samples[ab.x].x, samples[ab.y].x, samples[cd.x].x, samples[cd.y].x};
-    auto diagonal = std::minmax(cd.x, cd.y);
-    if (created.count(diagonal) || !flip_improves(q, o)) continue;
-    // A flip moves surface inside its quad when the quad is not flat, which can cut through a
-    // nearby sheet of S.
-    if (!guard) guard.emplace(double_positions(s), face_triangles(s));
-    const TriangleIds n1 = {cd.x, ab.x, cd.y}, n2 = {cd.y, ab.y, cd.x};
-    if (!guard->clear({n1, n2}, {ff.x, ff.y})) continue;
-    if (!flip_edge(s, e)) continue;
-    guard->accept({n1, n2}, {ff.x, ff.y});
+    const Quad q{x(ab.x), x(ab.y), x(cd.x), x(cd.y), samples[ab.x].x, samples[ab.y].x, samples[cd.x].x, samples[cd.y].x};
+    if (flip_improves(q, o)) out.push_back({e, cd, ff});
+  }
+  return out;
+}
+
+}  // namespace
+
+std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> samples, const ExteriorSurface&,
+                                const FlipOptions& o) {
+  const std::vector<FlipCandidate> candidates = candidate_flips(s, samples, o);
+  if (candidates.empty()) return 0;
+  // A flip moves surface inside its quad when the quad is not flat, which can cut through a
+  // nearby sheet of S: every candidate's new faces are tested against S as the pass found it
+  // (in parallel), then, in order, against the faces of the flips made before it.
+  FaceGuard guard(double_positions(s), face_triangles(s));
+  std::vector<std::vector<TriangleIds>> new_faces(candidates.size());
+  std::vector<std::vector<std::uint32_t>> replaced(candidates.size());
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const FlipCandidate& c = candidates[k];
+    const glm::uvec2 ab = s.edges[c.edge];
+    new_faces[k] = {{c.opposite.x, ab.x, c.opposite.y}, {c.opposite.y, ab.y, c.opposite.x}};
+    replaced[k] = {c.faces.x, c.faces.y};
+  }
+  const auto blockers = guard.snapshot_blockers(new_faces, replaced, o.threads);
+  std::vector<char> used(s.faces.size(), 0);
+  std::set<std::pair<std::uint32_t, std::uint32_t>> created;  // edges this pass made (adjacency is stale)
+  std::size_t flips = 0;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const FlipCandidate& c = candidates[k];
+    const std::uint32_t f1 = s.ef_faces[s.ef_offsets[c.edge]], f2 = s.ef_faces[s.ef_offsets[c.edge] + 1];
+    const auto diagonal = std::minmax(c.opposite.x, c.opposite.y);
+    if (used[f1] || used[f2] || created.count(diagonal)) continue;
+    if (std::any_of(blockers[k].begin(), blockers[k].end(), [&](std::uint32_t g) { return !guard.gone(g); })) continue;
+    if (!guard.clear_of_accepted(new_faces[k]) || !flip_edge(s, c.edge)) continue;
+    guard.accept(new_faces[k], replaced[k]);
     created.insert(diagonal);
-    used[ff.x] = used[ff.y] = 1;
+    used[c.faces.x] = used[c.faces.y] = 1;
     ++flips;
   }
   if (flips) rebuild_adjacency(s);
