@@ -26,17 +26,25 @@ Aabb FaceGuard::box_of(const TriangleIds& t) const {
   return box;
 }
 
-bool FaceGuard::clear(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const {
+void FaceGuard::snapshot_hits(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced,
+                              bool skip_gone, bool first_only, std::vector<std::uint32_t>& out) const {
   Aabb box;
   for (const TriangleIds& t : faces) box.expand(box_of(t));
   std::vector<std::uint32_t> hits;
   query_box(bvh_, box, hits);
   for (std::uint32_t g : hits) {
-    if (gone_[g] || std::find(replaced.begin(), replaced.end(), g) != replaced.end()) continue;
-    for (const TriangleIds& t : faces)
-      if (mesh_faces_intersect(x_, t, faces_[g])) return false;
+    if ((skip_gone && gone_[g]) || std::find(replaced.begin(), replaced.end(), g) != replaced.end()) continue;
+    if (std::none_of(faces.begin(), faces.end(), [&](const TriangleIds& t) { return mesh_faces_intersect(x_, t, faces_[g]); }))
+      continue;
+    out.push_back(g);
+    if (first_only) return;
   }
-  return clear_of_accepted(faces);
+}
+
+bool FaceGuard::clear(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const {
+  std::vector<std::uint32_t> hit;
+  snapshot_hits(faces, replaced, true, true, hit);
+  return hit.empty() && clear_of_accepted(faces);
 }
 
 bool FaceGuard::clear_of_accepted(const std::vector<TriangleIds>& faces) const {
@@ -62,22 +70,8 @@ std::vector<std::vector<std::uint32_t>> FaceGuard::snapshot_blockers(const std::
   std::vector<std::vector<std::uint32_t>> out(faces.size());
   geom_detail::parallel_chunks(faces.size(), geom_detail::chunk_count(faces.size(), 64), threads,
                                [&](std::size_t, std::size_t begin, std::size_t end) {
-    std::vector<std::uint32_t> hits;
-    for (std::size_t k = begin; k < end; ++k) {
-      Aabb box;
-      for (const TriangleIds& t : faces[k]) box.expand(box_of(t));
-      hits.clear();
-      query_box(bvh_, box, hits);
-      for (std::uint32_t g : hits) {
-        if (std::find(replaced[k].begin(), replaced[k].end(), g) != replaced[k].end()) continue;
-        for (const TriangleIds& t : faces[k])
-          if (mesh_faces_intersect(x_, t, faces_[g])) {
-            out[k].push_back(g);
-            break;
-          }
-      }
-    }
-  });
+                                 for (std::size_t k = begin; k < end; ++k) snapshot_hits(faces[k], replaced[k], false, false, out[k]);
+                               });
   return out;
 }
 

@@ -51,6 +51,10 @@ class FaceGuard {
 
  private:
   Aabb box_of(const TriangleIds& t) const;
+  // Appends the snapshot faces other than `replaced` that `faces` meet (gone ones left out when
+  // skip_gone; only the first when first_only).
+  void snapshot_hits(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced, bool skip_gone,
+                     bool first_only, std::vector<std::uint32_t>& out) const;
   void index_new_boxes();
 
   // Accepted faces' boxes are indexed by trees over contiguous runs of new_boxes_ whose sizes
