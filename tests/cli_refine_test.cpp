@@ -5,6 +5,7 @@
 
 #include "cube_scene.hpp"
 
+#include <iostream>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -144,4 +145,30 @@ TEST(CliRefine, BadSetIsAnInputErrorAndWritesNothing) {
     EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(out)) << set;
   }
+}
+
+// Paper 4.2: the stress term keeps the surface near the coarse one, the more so the heavier it is.
+TEST(CliRefine, DistanceWeightKeepsTheSurfaceNearTheCoarseOne) {
+  TempDir t;
+  t.write("cube.obj", kCube);
+  t.write("cube.mesh", cube_mesh(2));
+  std::vector<nlohmann::json> reports;
+  for (const char* w : {"0.5", "16"}) {
+    auto s = t.write(std::string("scene_") + w + ".json", scene(std::string(R"(, "weights": {"distance": )") + w + "}"));
+    const fs::path out = t.path / (std::string("out_") + w);
+    auto r = run("refine " + s.string() + " -o " + out.string() + " --backend cpu --stop-after refine -q");
+    ASSERT_EQ(r.code, 0) << r.err;
+    reports.push_back(nlohmann::json::parse(slurp(out / "report.json")));
+  }
+  for (const auto& j : reports) {
+    const auto& d = j.at("distance_to_coarse");
+    std::cout << "distance_to_coarse " << d.dump() << "\n";
+    EXPECT_GT(d.at("max").get<double>(), 0.0);
+    EXPECT_LE(d.at("mean").get<double>(), d.at("max").get<double>());
+    EXPECT_LE(d.at("max").get<double>(), d.at("allowed").get<double>());
+  }
+  // 32 times the weight: the allowed distance shrinks 32-fold and the surface stays closer.
+  EXPECT_NEAR(reports[0]["distance_to_coarse"]["allowed"].get<double>(),
+              32.0 * reports[1]["distance_to_coarse"]["allowed"].get<double>(), 1e-9);
+  EXPECT_LT(reports[1]["distance_to_coarse"]["mean"].get<double>(), 0.5 * reports[0]["distance_to_coarse"]["mean"].get<double>());
 }

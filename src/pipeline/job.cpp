@@ -143,7 +143,7 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   });
   report.seconds("refine", seconds_since(t_refine));
   report.kernels(backend.seconds());
-  report.refined(model.surface, s, refined, field.zeta);
+  report.refined(model.surface, s, refined, field.zeta, b.diagonal());
   write_surface_ply(out / "fracture_surface.ply", s, &refined.tree);
   write_mesh(out / "exterior.ply", exterior_mesh);
   if (o.stop_after == Stage::refine)

@@ -1,9 +1,11 @@
 #include "pipeline/job_outputs.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "field/field_sampler.hpp"
+#include "geom/bvh.hpp"
 #include "io/mesh_io.hpp"
 #include "util/atomic_output.hpp"
 #include "version.hpp"
@@ -26,7 +28,7 @@ void JobReport::coarse(const CoarseModel& model, const CoarseAnimation& animatio
 }
 
 void JobReport::refined(const FractureSurface& coarse, const FractureSurface& refined, const RefineResult& r,
-                        const Grid3& zeta) {
+                        const Grid3& zeta, double diagonal) {
   j_["refined_triangles"] = refined.faces.size();
   j_["initial_energy"] = r.initial_energy;
   const char* stops[] = {"converged", "triangle budget", "iteration cap"};
@@ -35,9 +37,14 @@ void JobReport::refined(const FractureSurface& coarse, const FractureSurface& re
   for (const IterationStats& st : r.iterations)
     its.push_back({{"energy", st.energy}, {"triangles", st.triangles}, {"max_displacement", st.max_displacement},
                    {"collisions_stopped", st.collisions_stopped}, {"splits", st.splits}, {"flips", st.flips},
-                   {"dt", st.dt}});
+                   {"dt", st.dt}, {"seconds", st.seconds}});
   j_["iterations"] = its;
   j_["mean_strength"] = {{"coarse", mean_strength(coarse, zeta)}, {"refined", mean_strength(refined, zeta)}};
+  const CoarseDistance d = distance_to_coarse(coarse, refined);
+  const double allowed = allowed_distance(scene_.weights, zeta, diagonal);
+  j_["distance_to_coarse"] = {{"max", d.max}, {"mean", d.mean}};
+  if (std::isfinite(allowed)) j_["distance_to_coarse"]["allowed"] = allowed;
+  else j_["distance_to_coarse"]["allowed"] = nullptr;
 }
 
 void JobReport::pieces(const PieceSet& pieces, const PieceReport& checked) {
@@ -134,6 +141,35 @@ double mean_strength(const FractureSurface& s, const Grid3& zeta) {
   return area > 0.0 ? acc / area : 0.0;
 }
 
+CoarseDistance distance_to_coarse(const FractureSurface& coarse, const FractureSurface& refined) {
+  std::vector<glm::dvec3> pos;
+  for (const glm::vec4& p : coarse.positions) pos.push_back(glm::dvec3(glm::vec3(p)));
+  std::vector<std::array<std::uint32_t, 3>> tris;
+  for (const glm::uvec4& f : coarse.faces) tris.push_back({f.x, f.y, f.z});
+  const Bvh bvh = build_bvh(pos, tris);
+  std::vector<double> d(refined.positions.size());
+  CoarseDistance out;
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    d[i] = std::sqrt(closest_point(bvh, glm::dvec3(glm::vec3(refined.positions[i]))).squared_distance);
+    out.max = std::max(out.max, d[i]);
+  }
+  double area = 0.0, acc = 0.0;
+  for (const glm::uvec4& f : refined.faces) {
+    glm::dvec3 a(glm::vec3(refined.positions[f.x])), b(glm::vec3(refined.positions[f.y])), c(glm::vec3(refined.positions[f.z]));
+    const double A = 0.5 * glm::length(glm::cross(b - a, c - a));
+    area += A;
+    acc += A * (d[f.x] + d[f.y] + d[f.z]) / 3.0;
+  }
+  out.mean = area > 0.0 ? acc / area : 0.0;
+  return out;
+}
+
+double allowed_distance(const WeightsSpec& w, const Grid3& zeta, double diagonal) {
+  if (!(w.distance > 0.0)) return std::numeric_limits<double>::infinity();
+  const auto [lo, hi] = std::minmax_element(zeta.values.begin(), zeta.values.end());
+  const double range = zeta.values.empty() ? 0.0 : double(*hi) - double(*lo);
+  return diagonal * w.strength * range / w.distance;
+}
 
 namespace {
 

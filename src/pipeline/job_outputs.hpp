@@ -26,8 +26,9 @@ class JobReport {
  public:
   JobReport(const Scene& scene, const std::string& backend, std::uint64_t seed);
   void coarse(const CoarseModel& model, const CoarseAnimation& animation);
+  /// Triangle counts, iterations, mean_strength, and distance_to_coarse (`diagonal`: B's).
   void refined(const FractureSurface& coarse, const FractureSurface& refined, const RefineResult& result,
-               const Grid3& zeta);
+               const Grid3& zeta, double diagonal);
   void pieces(const PieceSet& pieces, const PieceReport& checked);
   void animated(const AnimationTransfer& transfer, std::size_t frames_written);
   /// `glb`: bytes, frames_kept, frame_step of animation.glb; a note when frames were dropped.
@@ -51,6 +52,19 @@ void write_surface_ply(const std::filesystem::path& path, const FractureSurface&
 
 /// Area-weighted mean of ζ over S (ζ trilinear at the corners, averaged per face).
 double mean_strength(const FractureSurface& s, const Grid3& zeta);
+
+/// How far the refined surface went from the coarse one: the largest and the area-weighted mean
+/// distance of its vertices (faces: the mean of their corners) to the coarse surface, in scene units.
+struct CoarseDistance {
+  double max = 0.0, mean = 0.0;
+};
+/// \pre `coarse` has at least one face.
+CoarseDistance distance_to_coarse(const FractureSurface& coarse, const FractureSurface& refined);
+
+/// The distance the stress weight allows: beyond diagonal · w_ζ · (ζmax − ζmin) / w_d, the distance
+/// term alone makes ψ higher than at any point of the coarse surface (ζ's range over its grid),
+/// so no material there is weak enough to draw the surface that far. Infinity when w_d is 0.
+double allowed_distance(const WeightsSpec& w, const Grid3& zeta, double diagonal);
 
 /// The pieces slightly exploded, fracture faces in their piece's colour, exterior faces light.
 Image preview_pieces(const PieceSet& pieces);

@@ -1,6 +1,7 @@
 #include "refine/refine.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "refine/collisions.hpp"
@@ -378,6 +379,7 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   evaluate();
   result.initial_energy = energy();
   for (int it = 0; it < o_.max_iterations; ++it) {
+    const auto t0 = std::chrono::steady_clock::now();
     IterationStats st = flow_step();
     st.splits = refine_step(std::uint32_t(it));
     evaluate();
@@ -385,6 +387,7 @@ RefineResult Refiner::run(const RefineProgress& progress) {
     if (st.flips > 0) evaluate();
     st.energy = energy();
     st.triangles = s_.faces.size();
+    st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     result.iterations.push_back(st);
     if (progress) progress(st, it, o_.max_iterations);
     // Once a split has been refused for the budget, the surface is within one split of it:

@@ -34,6 +34,7 @@ struct IterationStats {
   std::size_t collisions_stopped = 0;  ///< vertices held back by the collision constraints
   std::size_t splits = 0, flips = 0;
   double dt = 0.0;
+  double seconds = 0.0;  ///< wall-clock time of the iteration (flow step, splits, flips)
 };
 
 struct RefineResult {
