@@ -12,10 +12,10 @@ void project_boundary_vertices(FractureSurface& s, const ExteriorSurface& b) {
       s.positions[i] = glm::vec4(glm::vec3(b.closest_point(glm::dvec3(glm::vec3(s.positions[i])))), 1.0f);
 }
 
-void apply_boundary_constraint(const FractureSurface& s, const ExteriorSurface& b, const std::vector<glm::vec4>&,
+void apply_boundary_constraint(const FractureSurface& s, const ExteriorSurface& b, const std::vector<glm::vec4>& x0,
                                std::vector<glm::vec4>& x1) {
   for (std::size_t i = 0; i < x1.size(); ++i)
-    if (s.vertex_flags[i] & kVertexBoundary)
+    if ((s.vertex_flags[i] & kVertexBoundary) && x1[i] != x0[i])
       x1[i] = glm::vec4(glm::vec3(b.closest_point(glm::dvec3(glm::vec3(x1[i])))), 1.0f);
 }
 

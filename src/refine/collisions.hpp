@@ -20,7 +20,8 @@ inline constexpr double kRimShrink = 0.02;
 /// Moves every boundary vertex of `s` to its closest point on B.
 void project_boundary_vertices(FractureSurface& s, const ExteriorSurface& exterior);
 
-/// In the candidate positions x1, moves every boundary vertex of `s` to its closest point on B.
+/// In the candidate positions x1, moves every boundary vertex of `s` that moves (x1 != x0) to its
+/// closest point on B; one that stays is taken to be on B already.
 void apply_boundary_constraint(const FractureSurface& s, const ExteriorSurface& exterior,
                                const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1);
 

@@ -54,6 +54,7 @@ class Refiner {
   ElementMotion element_motion(const SplitRequest& r, const glm::vec3& v_sample, float shortest) const;
   void drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::vector<glm::vec3>& start,
                                  std::vector<glm::vec3>& target) const;
+  void inherit_clearance(const FractureSurface& s, const RefinementTree& tree, std::vector<float>& clearance) const;
 
   FractureSurface& s_;
   const FieldGrid4& field_;
@@ -300,6 +301,7 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
   }
   drop_colliding_insertions(chosen, start, target);
   apply_splits(s_, tree_, chosen, &target);
+  inherit_clearance(s_, tree_, clearance_);
   return chosen.size();
 }
 
@@ -328,7 +330,8 @@ void Refiner::drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::
   std::vector<glm::vec4> x0 = trial.positions, x1 = trial.positions;
   for (std::size_t k = 0; k < chosen.size(); ++k) x1[first_new + k] = glm::vec4(target[k], 1.0f);
   apply_boundary_constraint(trial, b_, x0, x1);
-  std::vector<float> clearance = clearance_;  // new vertices: unknown
+  std::vector<float> clearance = clearance_;
+  inherit_clearance(trial, scratch, clearance);
   if (o_.collisions) apply_collision_constraints(trial, b_, x0, x1, &clearance);
   std::size_t kept = 0;
   for (std::size_t k = 0; k < chosen.size(); ++k) {
@@ -337,6 +340,25 @@ void Refiner::drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::
     ++kept;
   }
   chosen.resize(kept), start.resize(kept), target.resize(kept);
+}
+
+// Distance to B is 1-Lipschitz, so a new vertex is at least (clearance of a parent − its distance
+// from that parent) away from B: most new vertices need no closest-point query of their own.
+// Vertices the cache does not cover yet (`clearance` shorter than S) get the best such bound.
+void Refiner::inherit_clearance(const FractureSurface& s, const RefinementTree& tree, std::vector<float>& clearance) const {
+  const std::size_t first_new = clearance.size();
+  clearance.resize(s.positions.size(), -1.0f);
+  for (std::size_t v = first_new; v < s.positions.size(); ++v) {
+    if (s.vertex_flags[v] & kVertexBoundary) continue;
+    double best = -1.0;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t p = tree.parents[v][k];
+      if (tree.weights[v][k] == 0.0f || p >= first_new || clearance[p] < 0.0f) continue;
+      const double gap = double(glm::distance(glm::dvec3(glm::vec3(s.positions[v])), glm::dvec3(glm::vec3(s.positions[p]))));
+      best = std::max(best, (double(clearance[p]) - gap) * (1.0 - 1e-6));
+    }
+    clearance[v] = best > 0.0 ? float(best) : -1.0f;
+  }
 }
 
 // The pieces stage traces every boundary edge of S across B; a long boundary edge whose chord
