@@ -56,7 +56,7 @@ void fit_boxes(Bvh& bvh) {
     BvhNode& node = bvh.nodes[k];
     node.box = Aabb{};
     if (node.count > 0) {
-      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) node.box.expand(bvh.item_boxes[bvh.items[i]]);
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) node.box.expand(bvh.leaf_boxes[i]);
     } else {
       node.box.expand(bvh.nodes[node.first].box);
       node.box.expand(bvh.nodes[node.first + 1].box);
@@ -175,7 +175,6 @@ ClosestPoint closest_point_on_triangle(const dvec3& p, const dvec3& a, const dve
 
 Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options) {
   Bvh bvh;
-  bvh.item_boxes = boxes;
   const auto n = static_cast<std::uint32_t>(boxes.size());
   if (n == 0) return bvh;
   const std::uint32_t leaf = std::max<std::uint32_t>(1, options.leaf_size);
@@ -194,7 +193,8 @@ Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options) {
     bvh.nodes = join_subtrees(left, right);
   }
   bvh.items.resize(n);
-  for (std::uint32_t k = 0; k < n; ++k) bvh.items[k] = refs[k].id;
+  bvh.leaf_boxes.resize(n);
+  for (std::uint32_t k = 0; k < n; ++k) bvh.items[k] = refs[k].id, bvh.leaf_boxes[k] = boxes[refs[k].id];
   fit_boxes(bvh);
   return bvh;
 }
@@ -228,7 +228,7 @@ void query_box(const Bvh& bvh, const Aabb& box, std::vector<std::uint32_t>& out)
     if (!node.box.overlaps(box)) continue;
     if (node.count > 0) {
       for (std::uint32_t k = node.first; k < node.first + node.count; ++k)
-        if (bvh.item_boxes[bvh.items[k]].overlaps(box)) out.push_back(bvh.items[k]);
+        if (bvh.leaf_boxes[k].overlaps(box)) out.push_back(bvh.items[k]);
       continue;
     }
     stack[top++] = node.first + 1;

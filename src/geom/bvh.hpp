@@ -44,7 +44,7 @@ struct BvhNode {
 struct Bvh {
   std::vector<BvhNode> nodes;
   std::vector<std::uint32_t> items;  ///< item ids in leaf order
-  std::vector<Aabb> item_boxes;      ///< box of each item, indexed by item id
+  std::vector<Aabb> leaf_boxes;      ///< box of items[k] at k (leaf order: a leaf's boxes are contiguous)
   std::vector<glm::dvec3> positions;
   std::vector<std::array<std::uint32_t, 3>> triangles;
 };

@@ -48,10 +48,11 @@ void visit_leaves(const Bvh& a, const Bvh& b, bool self, NodePair p, Visit& visi
   const BvhNode& y = b.nodes[p.b];
   for (std::uint32_t k = x.first; k < x.first + x.count; ++k) {
     const std::uint32_t i = a.items[k];
+    const Aabb& box = a.leaf_boxes[k];
     const std::uint32_t l0 = self && p.a == p.b ? k + 1 : y.first;
     for (std::uint32_t l = l0; l < y.first + y.count; ++l) {
+      if (!box.overlaps(b.leaf_boxes[l])) continue;
       const std::uint32_t j = b.items[l];
-      if (!a.item_boxes[i].overlaps(b.item_boxes[j])) continue;
       if (self)
         visit(std::min(i, j), std::max(i, j));
       else

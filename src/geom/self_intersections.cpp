@@ -30,7 +30,9 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> find_self_intersections(
     // A chunk never needs more than max_report pairs: earlier chunks come first in the output.
     for (std::size_t i = begin; i < end && found.size() < options.max_report; ++i) {
       hits.clear();
-      query_box(tree, tree.item_boxes[i], hits);
+      Aabb box;
+      for (std::uint32_t v : triangles[i]) box.expand(positions[v]);
+      query_box(tree, box, hits);
       std::sort(hits.begin(), hits.end());
       for (std::uint32_t j : hits) {
         if (j <= i) continue;
