@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <utility>
 
+#include "geom/morton.hpp"
 #include "geom/parallel.hpp"
 
 namespace fracref {
@@ -68,9 +69,17 @@ std::vector<std::vector<std::uint32_t>> FaceGuard::snapshot_blockers(const std::
                                                                      const std::vector<std::vector<std::uint32_t>>& replaced,
                                                                      int threads) const {
   std::vector<std::vector<std::uint32_t>> out(faces.size());
+  // Queries in Z-order: consecutive ones descend the same branches of the tree, still in cache.
+  std::vector<glm::dvec3> centres(faces.size(), glm::dvec3(0.0));
+  for (std::size_t k = 0; k < faces.size(); ++k)
+    if (!faces[k].empty()) centres[k] = box_of(faces[k][0]).lo;
+  const std::vector<std::uint32_t> order = morton_order(centres);
   geom_detail::parallel_chunks(faces.size(), geom_detail::chunk_count(faces.size(), 64), threads,
                                [&](std::size_t, std::size_t begin, std::size_t end) {
-                                 for (std::size_t k = begin; k < end; ++k) snapshot_hits(faces[k], replaced[k], false, false, out[k]);
+                                 for (std::size_t i = begin; i < end; ++i) {
+                                   const std::uint32_t k = order[i];
+                                   snapshot_hits(faces[k], replaced[k], false, false, out[k]);
+                                 }
                                });
   return out;
 }

@@ -168,6 +168,11 @@ bool meet_beyond_shared_vertex(const dvec3& s, const dvec3& a, const dvec3& b, c
   }
   if (deg_p) return degenerate_vs_face_beyond_s(s, a, b, c, d);
   if (deg_q) return degenerate_vs_face_beyond_s(s, c, d, a, b);
+  // One face strictly on one side of the other's plane but for s: they meet only at s (the
+  // common case of neighbours in a mesh, decided by two orientations).
+  auto one_side = [](int x, int y) { return x * y > 0; };
+  if (one_side(orient3d(s, a, b, c), orient3d(s, a, b, d)) || one_side(orient3d(s, c, d, a), orient3d(s, c, d, b)))
+    return false;
   // The intersection is convex and contains s; a second point lies on an edge of one face
   // inside the other. Edges opposite s cannot contain s; edges at s need the cone test.
   const Triangle3 p{s, a, b}, q{s, c, d};
