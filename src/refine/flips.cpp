@@ -5,6 +5,7 @@
 #include <set>
 
 #include "geom/face_guard.hpp"
+#include "geom/parallel.hpp"
 
 #include "refine/topology_edit.hpp"
 
@@ -37,11 +38,24 @@ glm::dvec3 unit_normal(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec
   return l > 0.0 ? n / l : glm::dvec3(0.0);
 }
 
+// The cosine of the smallest angle of triangle (a, b, c) (1 for a degenerate one): angles compare
+// as their cosines do, reversed, without an acos per corner.
+double max_cosine(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+  auto cosine = [](const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& r) {
+    const glm::dvec3 u = q - p, v = r - p;
+    const double lu = glm::length(u), lv = glm::length(v);
+    if (lu == 0.0 || lv == 0.0) return 1.0;
+    return std::clamp(glm::dot(u, v) / (lu * lv), -1.0, 1.0);
+  };
+  return std::max({cosine(a, b, c), cosine(b, c, a), cosine(c, a, b)});
+}
+
 bool flip_improves(const Quad& q, const FlipOptions& o) {
-  double before = std::min(min_angle_degrees(q.a, q.b, q.c), min_angle_degrees(q.b, q.a, q.d));
-  if (before >= o.min_angle) return false;
-  double after = std::min(min_angle_degrees(q.c, q.a, q.d), min_angle_degrees(q.d, q.b, q.c));
-  if (after <= before) return false;
+  const double cos_min = std::cos(o.min_angle * M_PI / 180.0);
+  const double before = std::max(max_cosine(q.a, q.b, q.c), max_cosine(q.b, q.a, q.d));
+  if (before <= cos_min) return false;
+  const double after = std::max(max_cosine(q.c, q.a, q.d), max_cosine(q.d, q.b, q.c));
+  if (after >= before) return false;
   glm::dvec3 n1 = unit_normal(q.a, q.b, q.c), n2 = unit_normal(q.b, q.a, q.d);
   if (glm::dot(n1, n2) < std::cos(o.max_dihedral * M_PI / 180.0)) return false;
   glm::dvec3 m1 = unit_normal(q.c, q.a, q.d), m2 = unit_normal(q.d, q.b, q.c);
@@ -75,21 +89,29 @@ struct FlipCandidate {
 // they were, so each test below gives the answer it would give at its turn.
 std::vector<FlipCandidate> candidate_flips(const FractureSurface& s, std::span<const glm::vec4> samples, const FlipOptions& o) {
   auto x = [&](std::uint32_t v) { return glm::dvec3(glm::vec3(s.positions[v])); };
+  const double cos_min = std::cos(o.min_angle * M_PI / 180.0);
   // Only edges of a slim face are candidates: judged once per face, before the costlier tests.
   std::vector<char> slim(s.faces.size(), 0);
-  for (std::size_t f = 0; f < s.faces.size(); ++f)
-    slim[f] = min_angle_degrees(x(s.faces[f].x), x(s.faces[f].y), x(s.faces[f].z)) < o.min_angle;
+  geom_detail::parallel_chunks(s.faces.size(), geom_detail::chunk_count(s.faces.size(), 4096), o.threads,
+                               [&](std::size_t, std::size_t begin, std::size_t end) {
+                                 for (std::size_t f = begin; f < end; ++f)
+                                   slim[f] = max_cosine(x(s.faces[f].x), x(s.faces[f].y), x(s.faces[f].z)) > cos_min;
+                               });
+  const std::size_t chunks = geom_detail::chunk_count(s.edges.size(), 4096);
+  std::vector<std::vector<FlipCandidate>> parts(chunks);
+  geom_detail::parallel_chunks(s.edges.size(), chunks, o.threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    for (auto e = std::uint32_t(begin); e < end; ++e) {
+      glm::uvec2 cd, ff;
+      if (s.edge_special[e] != kEdgeRegular) continue;
+      const std::uint32_t f1 = s.ef_faces[s.ef_offsets[e]], f2 = s.ef_faces[s.ef_offsets[e] + 1];
+      if (!(slim[f1] || slim[f2]) || !flip_candidates(s, e, cd, ff)) continue;
+      const glm::uvec2 ab = s.edges[e];
+      const Quad q{x(ab.x), x(ab.y), x(cd.x), x(cd.y), samples[ab.x].x, samples[ab.y].x, samples[cd.x].x, samples[cd.y].x};
+      if (flip_improves(q, o) && !touches_junction(s, ab, cd)) parts[c].push_back({e, cd, ff});
+    }
+  });
   std::vector<FlipCandidate> out;
-  for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
-    glm::uvec2 cd, ff;
-    if (s.edge_special[e] != kEdgeRegular) continue;
-    const std::uint32_t f1 = s.ef_faces[s.ef_offsets[e]], f2 = s.ef_faces[s.ef_offsets[e] + 1];
-    if (!(slim[f1] || slim[f2]) || !flip_candidates(s, e, cd, ff)) continue;
-    const glm::uvec2 ab = s.edges[e];
-    if (touches_junction(s, ab, cd)) continue;
-    const Quad q{x(ab.x), x(ab.y), x(cd.x), x(cd.y), samples[ab.x].x, samples[ab.y].x, samples[cd.x].x, samples[cd.y].x};
-    if (flip_improves(q, o)) out.push_back({e, cd, ff});
-  }
+  for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
   return out;
 }
 
