@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <utility>
 
+#include "geom/bvh_traverse.hpp"
 #include "geom/morton.hpp"
 #include "geom/parallel.hpp"
 
@@ -81,6 +82,26 @@ std::vector<std::vector<std::uint32_t>> FaceGuard::snapshot_blockers(const std::
                                    snapshot_hits(faces[k], replaced[k], false, false, out[k]);
                                  }
                                });
+  return out;
+}
+
+std::vector<std::vector<std::uint32_t>> FaceGuard::batch_conflicts(const std::vector<std::vector<TriangleIds>>& faces,
+                                                                   int threads) const {
+  std::vector<Aabb> boxes(faces.size());
+  for (std::size_t k = 0; k < faces.size(); ++k)
+    for (const TriangleIds& t : faces[k]) boxes[k].expand(box_of(t));
+  BvhOptions o;
+  o.threads = threads;
+  const Bvh tree = build_bvh(boxes, o);
+  using Pair = std::pair<std::uint32_t, std::uint32_t>;
+  std::vector<Pair> pairs = collect_overlaps<Pair>(tree, tree, true, threads, [&](std::uint32_t i, std::uint32_t j, std::vector<Pair>& out) {
+    for (const TriangleIds& a : faces[i])
+      for (const TriangleIds& b : faces[j])
+        if (mesh_faces_intersect(x_, b, a)) return out.push_back({j, i});
+  });
+  std::sort(pairs.begin(), pairs.end());
+  std::vector<std::vector<std::uint32_t>> out(faces.size());
+  for (const Pair& p : pairs) out[p.first].push_back(p.second);
   return out;
 }
 

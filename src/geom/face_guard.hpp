@@ -43,6 +43,13 @@ class FaceGuard {
   /// Whether `faces` meet no face accepted so far.
   bool clear_of_accepted(const std::vector<TriangleIds>& faces) const;
 
+  /// For a batch of candidate edits judged in order, for every edit k the earlier edits j < k
+  /// whose faces meet faces[k] (exact, as mesh_faces_intersect), ascending. With it the batch needs
+  /// no accept(): edit k is clear of the accepted ones exactly when none of them is in its list.
+  /// Runs on `threads` threads; the answer does not depend on their number.
+  std::vector<std::vector<std::uint32_t>> batch_conflicts(const std::vector<std::vector<TriangleIds>>& faces,
+                                                          int threads) const;
+
   /// Records an accepted edit: `replaced` faces of the mesh are gone, `faces` exist.
   void accept(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced) {
     accept(std::vector<TriangleIds>(faces), std::vector<std::uint32_t>(replaced));

@@ -134,6 +134,8 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
     replaced[k] = {c.faces.x, c.faces.y};
   }
   const auto blockers = guard.snapshot_blockers(new_faces, replaced, o.threads);
+  const auto conflicts = guard.batch_conflicts(new_faces, o.threads);
+  std::vector<char> accepted(candidates.size(), 0);
   std::vector<char> used(s.faces.size(), 0);
   std::set<std::pair<std::uint32_t, std::uint32_t>> created;  // edges this pass made (adjacency is stale)
   std::size_t flips = 0;
@@ -142,14 +144,18 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
     const std::uint32_t f1 = s.ef_faces[s.ef_offsets[c.edge]], f2 = s.ef_faces[s.ef_offsets[c.edge] + 1];
     const auto diagonal = std::minmax(c.opposite.x, c.opposite.y);
     if (used[f1] || used[f2] || created.count(diagonal)) continue;
-    if (std::any_of(blockers[k].begin(), blockers[k].end(), [&](std::uint32_t g) { return !guard.gone(g); })) continue;
-    if (!guard.clear_of_accepted(new_faces[k]) || !flip_edge(s, c.edge)) continue;
-    guard.accept(new_faces[k], replaced[k]);
+    // A blocker still there (not replaced by a flip made so far: `used`) or a flip made so far
+    // whose faces meet this one's refuses it.
+    if (std::any_of(blockers[k].begin(), blockers[k].end(), [&](std::uint32_t g) { return used[g] == 0; })) continue;
+    if (std::any_of(conflicts[k].begin(), conflicts[k].end(), [&](std::uint32_t j) { return accepted[j] != 0; })) continue;
+    if (!flip_edge(s, c.edge)) continue;
+    accepted[k] = 1;
     created.insert(diagonal);
     used[c.faces.x] = used[c.faces.y] = 1;
     ++flips;
   }
   if (flips) rebuild_adjacency(s);
+  if (getenv("FRACREF_HASH")) { std::uint64_t h = 1469598103934665603ull; for (auto& f : s.faces) { h = (h ^ f.x) * 1099511628211ull; h = (h ^ f.y) * 1099511628211ull; h = (h ^ f.z) * 1099511628211ull; } fprintf(stderr, "FLIPHASH %zu %zu %llx\n", candidates.size(), flips, (unsigned long long)h); }
   return flips;
 }
 
