@@ -18,36 +18,64 @@ struct BuildTask {
   std::uint32_t node, begin, end;
 };
 
-// An item's box centre (doubled: lo + hi) next to its id, so the splits touch one array.
-struct Ref {
-  dvec3 centre;
+// Items sorted by the Morton code of their box centre on a cube grid over the centres' bounds
+// (ties by id). A node's items are a contiguous range of codes; it splits where the highest bit
+// that differs within the range turns from 0 to 1: a spatial median along the longest axis first
+// (the grid is a cube, so long axes carry the leading bits). Building is a sort and a binary
+// search per node, several times faster than partitioning at every level.
+struct Keyed {
+  std::uint64_t code;
   std::uint32_t id;
 };
 
-int longest_axis(const Aabb& box) {
-  const dvec3 ext = box.hi - box.lo;
-  return ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+void radix_sort(std::vector<Keyed>& items) {
+  constexpr int kBits = 11, kPasses = 6;  // 66 bits >= the 63 of a code
+  std::vector<Keyed> scratch(items.size());
+  for (int pass = 0; pass < kPasses; ++pass) {
+    const int shift = pass * kBits;
+    std::vector<std::uint32_t> count((1u << kBits) + 1, 0);
+    for (const Keyed& k : items) ++count[((k.code >> shift) & ((1u << kBits) - 1)) + 1];
+    if (count[1] == items.size()) continue;  // every item in digit 0: nothing moves
+    for (std::size_t d = 1; d < count.size(); ++d) count[d] += count[d - 1];
+    for (const Keyed& k : items) scratch[count[(k.code >> shift) & ((1u << kBits) - 1)]++] = k;
+    items.swap(scratch);
+  }
 }
 
-// Splits the items of a node at the middle of their centre bounds along its longest axis (one
-// linear pass); when that leaves a side with less than a quarter of the items, splits at the
-// median instead (ties by id), which keeps the depth logarithmic. Deterministic.
-std::uint32_t split_node(std::vector<Ref>& refs, std::uint32_t begin, std::uint32_t end) {
+std::vector<Keyed> morton_sorted(const std::vector<Aabb>& boxes) {
   Aabb bounds;
-  for (std::uint32_t k = begin; k < end; ++k) bounds.expand(refs[k].centre);
-  const int axis = longest_axis(bounds);
-  const double cut = 0.5 * (bounds.lo[axis] + bounds.hi[axis]);
-  const auto middle = std::partition(refs.begin() + begin, refs.begin() + end,
-                                     [axis, cut](const Ref& r) { return r.centre[axis] < cut; });
-  const auto mid = static_cast<std::uint32_t>(middle - refs.begin());
-  const std::uint32_t quarter = (end - begin) / 4;
-  if (mid - begin >= quarter && end - mid >= quarter && mid > begin && mid < end) return mid;
-  const std::uint32_t median = begin + (end - begin) / 2;
-  std::nth_element(refs.begin() + begin, refs.begin() + median, refs.begin() + end, [axis](const Ref& a, const Ref& b) {
-    const double ca = a.centre[axis], cb = b.centre[axis];
-    return ca < cb || (ca == cb && a.id < b.id);
-  });
-  return median;
+  for (const Aabb& b : boxes) bounds.expand(b.lo + b.hi);
+  const dvec3 ext = bounds.hi - bounds.lo;
+  const double side = std::max({ext.x, ext.y, ext.z});
+  const double scale = side > 0.0 ? double((1u << 21) - 1) / side : 0.0;
+  auto spread = [](std::uint64_t v) {
+    v &= 0x1fffffull;
+    v = (v | v << 32) & 0x1f00000000ffffull;
+    v = (v | v << 16) & 0x1f0000ff0000ffull;
+    v = (v | v << 8) & 0x100f00f00f00f00full;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ull;
+    v = (v | v << 2) & 0x1249249249249249ull;
+    return v;
+  };
+  std::vector<Keyed> items(boxes.size());
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    const dvec3 t = glm::clamp(((boxes[i].lo + boxes[i].hi) - bounds.lo) * scale, 0.0, double((1u << 21) - 1));
+    items[i] = {spread(std::uint64_t(t.x)) << 2 | spread(std::uint64_t(t.y)) << 1 | spread(std::uint64_t(t.z)),
+                std::uint32_t(i)};
+  }
+  radix_sort(items);  // stable: ties stay in id order
+  return items;
+}
+
+// The split of sorted items [begin, end): the first item with the highest differing bit set, or
+// the middle when all codes are equal.
+std::uint32_t split_node(const std::vector<Keyed>& items, std::uint32_t begin, std::uint32_t end) {
+  const std::uint64_t diff = items[begin].code ^ items[end - 1].code;
+  if (diff == 0) return begin + (end - begin) / 2;
+  const std::uint64_t bit = std::uint64_t(1) << (63 - __builtin_clzll(diff));
+  const auto it = std::partition_point(items.begin() + begin, items.begin() + end,
+                                       [bit](const Keyed& k) { return (k.code & bit) == 0; });
+  return static_cast<std::uint32_t>(it - items.begin());
 }
 
 // Children are created after their parent, so one backward sweep sets every box bottom-up.
@@ -66,7 +94,7 @@ void fit_boxes(Bvh& bvh) {
 
 // The nodes of the subtree over refs[begin, end), root first; inner nodes' `first` indexes
 // this vector, leaves' `first` indexes refs.
-std::vector<BvhNode> build_nodes(std::vector<Ref>& refs, std::uint32_t begin, std::uint32_t end, std::uint32_t leaf) {
+std::vector<BvhNode> build_nodes(const std::vector<Keyed>& refs, std::uint32_t begin, std::uint32_t end, std::uint32_t leaf) {
   std::vector<BvhNode> nodes(1);
   nodes.reserve(2 * ((end - begin) / leaf + 1));
   std::vector<BuildTask> stack{{0, begin, end}};
@@ -178,8 +206,7 @@ Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options) {
   const auto n = static_cast<std::uint32_t>(boxes.size());
   if (n == 0) return bvh;
   const std::uint32_t leaf = std::max<std::uint32_t>(1, options.leaf_size);
-  std::vector<Ref> refs(n);
-  for (std::uint32_t i = 0; i < n; ++i) refs[i] = {boxes[i].lo + boxes[i].hi, i};
+  const std::vector<Keyed> refs = morton_sorted(boxes);
   if (options.threads < 2 || n < 8192 || n <= leaf) {
     bvh.nodes = build_nodes(refs, 0, n, leaf);
   } else {

@@ -54,10 +54,11 @@ struct BvhOptions {
   int threads = 1;              ///< 2 or more builds the root's two subtrees side by side
 };
 
-/// Builds the tree over arbitrary boxes (item id = index in `boxes`) by recursive splits of
-/// the box centres along the longest axis of their bounds, at the middle of the bounds (or at
-/// the median, ties by item id, when the middle would leave less than a quarter on a side).
-/// Deterministic; the same tree (up to node numbering) for any thread count. O(n log n).
+/// Builds the tree over arbitrary boxes (item id = index in `boxes`): items sorted by the Morton
+/// code of their box centre on a cube grid over the centres' bounds (ties by id), each node split
+/// where the highest bit differing within its range of codes turns from 0 to 1 (a spatial median,
+/// longest axis first), at the middle of the range when all codes are equal. Deterministic; the
+/// same tree (up to node numbering) for any thread count. O(n) after a radix sort.
 /// \pre finite boxes.
 Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options = {});
 
