@@ -51,18 +51,18 @@ std::string check_vertices(const FractureSurface& s) {
 std::string check_face(const FractureSurface& s, std::size_t f) {
   const glm::uvec4& t = s.faces[f];
   const glm::ivec2 p = s.face_pieces[f];
-  const std::string at = "face " + str(f) + ": ";
+  auto at = [&] { return "face " + str(f) + ": "; };
   for (int i = 0; i < 3; ++i)
     if (t[i] >= s.positions.size())
-      return at + "vertex " + str(t[i]) + " out of range (" + str(s.positions.size()) + " vertices)";
+      return at() + "vertex " + str(t[i]) + " out of range (" + str(s.positions.size()) + " vertices)";
   if (t.x == t.y || t.y == t.z || t.z == t.x)
-    return at + "repeats a vertex (" + str(t.x) + " " + str(t.y) + " " + str(t.z) + ")";
-  if (t.w != 0) return at + "w is " + str(t.w) + ", expected 0";
+    return at() + "repeats a vertex (" + str(t.x) + " " + str(t.y) + " " + str(t.z) + ")";
+  if (t.w != 0) return at() + "w is " + str(t.w) + ", expected 0";
   for (int side = 0; side < 2; ++side)
     if (p[side] < 0 || p[side] >= s.piece_count)
-      return at + (side ? "back" : "front") + " piece " + std::to_string(p[side]) + " out of range (" +
+      return at() + (side ? "back" : "front") + " piece " + std::to_string(p[side]) + " out of range (" +
              std::to_string(s.piece_count) + " pieces)";
-  if (p.x == p.y) return at + "front and back are the same piece " + std::to_string(p.x);
+  if (p.x == p.y) return at() + "front and back are the same piece " + std::to_string(p.x);
   return "";
 }
 
@@ -109,18 +109,18 @@ std::string check_derived_shapes(const FractureSurface& s) {
 
 std::string check_vf(const FractureSurface& s, const FractureSurface& fresh) {
   for (std::uint32_t v = 0; v < s.positions.size(); ++v) {
-    const std::string at = "vertex " + str(v) + ": ";
+    auto at = [&] { return "vertex " + str(v) + ": "; };
     for (std::uint32_t k = s.vf_offsets[v]; k < s.vf_offsets[v + 1]; ++k) {
       const std::uint32_t f = s.vf_faces[k];
-      if (f >= s.faces.size()) return at + "vf lists face " + str(f) + ", out of range (" + str(s.faces.size()) + " faces)";
-      if (!uses(s.faces[f], v)) return at + "vf lists face " + str(f) + " but face " + str(f) + " does not use vertex " + str(v);
+      if (f >= s.faces.size()) return at() + "vf lists face " + str(f) + ", out of range (" + str(s.faces.size()) + " faces)";
+      if (!uses(s.faces[f], v)) return at() + "vf lists face " + str(f) + " but face " + str(f) + " does not use vertex " + str(v);
       if (k > s.vf_offsets[v] && f <= s.vf_faces[k - 1])
-        return at + "vf faces not ascending (" + str(f) + " after " + str(s.vf_faces[k - 1]) + ")";
+        return at() + "vf faces not ascending (" + str(f) + " after " + str(s.vf_faces[k - 1]) + ")";
     }
     const auto b = s.vf_faces.begin() + s.vf_offsets[v], e = s.vf_faces.begin() + s.vf_offsets[v + 1];
     for (std::uint32_t k = fresh.vf_offsets[v]; k < fresh.vf_offsets[v + 1]; ++k)
       if (!std::binary_search(b, e, fresh.vf_faces[k]))
-        return at + "face " + str(fresh.vf_faces[k]) + " uses it but is missing from vf";
+        return at() + "face " + str(fresh.vf_faces[k]) + " uses it but is missing from vf";
   }
   return "";
 }
@@ -137,18 +137,18 @@ std::string check_edge_list(const FractureSurface& s, const FractureSurface& fre
 // \pre stored edges equal the fresh ones, so both CSRs have the same rows.
 std::string check_ef(const FractureSurface& s, const FractureSurface& fresh) {
   for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
-    const std::string at = "edge " + edge_text(s.edges[e]) + ": ";
+    auto at = [&] { return "edge " + edge_text(s.edges[e]) + ": "; };
     for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) {
       const std::uint32_t f = s.ef_faces[k];
-      if (f >= s.faces.size()) return at + "ef lists face " + str(f) + ", out of range (" + str(s.faces.size()) + " faces)";
-      if (!has_edge(s.faces[f], s.edges[e])) return at + "ef lists face " + str(f) + " but face " + str(f) + " has no such edge";
+      if (f >= s.faces.size()) return at() + "ef lists face " + str(f) + ", out of range (" + str(s.faces.size()) + " faces)";
+      if (!has_edge(s.faces[f], s.edges[e])) return at() + "ef lists face " + str(f) + " but face " + str(f) + " has no such edge";
       if (k > s.ef_offsets[e] && f <= s.ef_faces[k - 1])
-        return at + "ef faces not ascending (" + str(f) + " after " + str(s.ef_faces[k - 1]) + ")";
+        return at() + "ef faces not ascending (" + str(f) + " after " + str(s.ef_faces[k - 1]) + ")";
     }
     const auto b = s.ef_faces.begin() + s.ef_offsets[e], end = s.ef_faces.begin() + s.ef_offsets[e + 1];
     for (std::uint32_t k = fresh.ef_offsets[e]; k < fresh.ef_offsets[e + 1]; ++k)
       if (!std::binary_search(b, end, fresh.ef_faces[k]))
-        return at + "face " + str(fresh.ef_faces[k]) + " has it but is missing from ef";
+        return at() + "face " + str(fresh.ef_faces[k]) + " has it but is missing from ef";
   }
   return "";
 }
@@ -185,16 +185,16 @@ std::uint32_t first_edge_of_kind(const FractureSurface& s, std::uint32_t v, std:
 }
 
 std::string check_flag_bit(const FractureSurface& fresh, std::uint32_t v, std::uint32_t stored, std::uint32_t bit) {
-  const std::string at = "vertex " + str(v) + ": ";
+  auto at = [&] { return "vertex " + str(v) + ": "; };
   const bool boundary = bit == kVertexBoundary;
   const std::uint32_t e = first_edge_of_kind(fresh, v, boundary ? kEdgeBoundary : kEdgeNonManifold);
   if (boundary)
-    return (stored & bit) ? at + "flagged boundary but on no boundary edge"
-                          : at + "on boundary edge " + edge_text(fresh.edges[e]) + " but not flagged boundary";
-  if (stored & bit) return at + "flagged non-manifold but on no non-manifold edge and not a pinch vertex";
-  if (e != kNoEdge) return at + "on non-manifold edge " + edge_text(fresh.edges[e]) + " but not flagged non-manifold";
+    return (stored & bit) ? at() + "flagged boundary but on no boundary edge"
+                          : at() + "on boundary edge " + edge_text(fresh.edges[e]) + " but not flagged boundary";
+  if (stored & bit) return at() + "flagged non-manifold but on no non-manifold edge and not a pinch vertex";
+  if (e != kNoEdge) return at() + "on non-manifold edge " + edge_text(fresh.edges[e]) + " but not flagged non-manifold";
   std::vector<glm::uvec2> scratch;
-  return at + "pinch vertex (its faces form " + str(surface_detail::fan_count(fresh, v, scratch)) +
+  return at() + "pinch vertex (its faces form " + str(surface_detail::fan_count(fresh, v, scratch)) +
          " fans) but not flagged non-manifold";
 }
 
@@ -271,10 +271,10 @@ std::string check_piece_edges(const FractureSurface& s) {
       const int p = uses_here[k].first;
       int count[2] = {0, 0};
       for (; k < uses_here.size() && uses_here[k].first == p; ++k) ++count[uses_here[k].second];
-      const std::string at = "piece " + std::to_string(p) + ": edge " + edge_text(s.edges[e]);
-      if (count[0] >= 2 || count[1] >= 2) return at + " used by its outward faces in the same direction twice";
+      auto at = [&] { return "piece " + std::to_string(p) + ": edge " + edge_text(s.edges[e]); };
+      if (count[0] >= 2 || count[1] >= 2) return at() + " used by its outward faces in the same direction twice";
       if (count[0] + count[1] == 1 && s.edge_special[e] != kEdgeBoundary)
-        return at + " has a single outward face but is not a boundary edge";
+        return at() + " has a single outward face but is not a boundary edge";
     }
   }
   return "";
