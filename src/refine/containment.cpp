@@ -13,18 +13,42 @@ namespace {
 
 glm::dvec3 at(const FractureSurface& s, std::uint32_t v) { return glm::dvec3(glm::vec3(s.positions[v])); }
 
+// Points known to be inside B with their distance to it: the open ball of that radius around
+// each misses B's surface, so every point in it is inside too (no inside test needed).
+class InsideBalls {
+ public:
+  bool covers(const glm::dvec3& x) const {
+    for (const auto& [c, r2] : balls_)
+      if (glm::dot(x - c, x - c) < r2) return true;
+    return false;
+  }
+  void add(const glm::dvec3& c, double squared_distance) { balls_.push_back({c, squared_distance * (1.0 - 1e-9)}); }
+
+ private:
+  std::vector<std::pair<glm::dvec3, double>> balls_;
+};
+
+// Whether x, at squared distance d from B, is outside B; inside points are remembered.
+bool outside(const ExteriorSurface& b, const glm::dvec3& x, double d, InsideBalls& inside) {
+  if (!b.contains(x)) return true;
+  inside.add(x, d);
+  return false;
+}
+
 // The sample of face f farthest outside B (a barycentric grid, corners excluded); false if none.
 bool deepest_outside(const FractureSurface& s, std::uint32_t f, const ExteriorSurface& b, int grid, glm::vec3& weights) {
   const glm::uvec4 face = s.faces[f];
   double worst = 0.0;
+  InsideBalls inside;
   for (int i = 0; i <= grid; ++i)
     for (int j = 0; i + j <= grid; ++j) {
       const int k = grid - i - j;
       if (std::max({i, j, k}) == grid) continue;
       const glm::dvec3 w(double(i) / grid, double(j) / grid, double(k) / grid);
       const glm::dvec3 x = w.x * at(s, face.x) + w.y * at(s, face.y) + w.z * at(s, face.z);
+      if (inside.covers(x)) continue;
       const double d = b.squared_distance(x);
-      if (d > worst && !b.contains(x)) worst = d, weights = glm::vec3(w);
+      if (d > worst && outside(b, x, d, inside)) worst = d, weights = glm::vec3(w);
     }
   return worst > 0.0;
 }
@@ -40,17 +64,23 @@ double longest_edge(const FractureSurface& s, const glm::uvec4& f) {
 }
 
 // The point of edge e farthest outside B, as t along it (samples off its ends, and off the
-// rim strip at an end on B), and its squared distance to B; 0 if none is outside.
-double deepest_outside_on_edge(const FractureSurface& s, std::uint32_t e, const ExteriorSurface& b, int grid, float& t) {
+// rim strip at an end on B), and its squared distance to B; 0 if none is outside. `clearance`:
+// the ends' distances to B where they are inside it (negative where unknown or not inside).
+double deepest_outside_on_edge(const FractureSurface& s, std::uint32_t e, const ExteriorSurface& b, int grid, float& t,
+                               glm::dvec2 clearance = glm::dvec2(-1.0)) {
   const glm::uvec2 ab = s.edges[e];
   const bool rim_a = s.vertex_flags[ab.x] & kVertexBoundary, rim_b = s.vertex_flags[ab.y] & kVertexBoundary;
   double worst = 0.0;
+  InsideBalls inside;
+  for (int k = 0; k < 2; ++k)
+    if (clearance[k] > 0.0) inside.add(at(s, ab[k]), clearance[k] * clearance[k]);
   for (int i = 1; i < 2 * grid; ++i) {
     const double u = double(i) / (2 * grid);
     if ((rim_a && u < kRimShrink) || (rim_b && u > 1.0 - kRimShrink)) continue;
     const glm::dvec3 x = (1.0 - u) * at(s, ab.x) + u * at(s, ab.y);
+    if (inside.covers(x)) continue;
     const double d = b.squared_distance(x);
-    if (d > worst && !b.contains(x)) worst = d, t = float(u);
+    if (d > worst && outside(b, x, d, inside)) worst = d, t = float(u);
   }
   return worst;
 }
@@ -147,9 +177,7 @@ class SurelyInside {
     const double nearest = std::min({clearance(x.x), clearance(x.y), clearance(x.z)});
     return nearest >= 0.0 && nearest > longest_edge(s_, x) * (1.0 + 1e-9);
   }
-
- private:
-  static constexpr double kUnknown = -2.0;
+  /// Distance from v to B when v is inside B and not on the rim, else -1.
   double clearance(std::uint32_t v) {
     double& c = clearance_[v];
     if (c != kUnknown) return c;
@@ -157,6 +185,9 @@ class SurelyInside {
     c = (s_.vertex_flags[v] & kVertexBoundary) || !b_.contains(x) ? -1.0 : std::sqrt(b_.squared_distance(x));
     return c;
   }
+
+ private:
+  static constexpr double kUnknown = -2.0;
   const FractureSurface& s_;
   const ExteriorSurface& b_;
   std::vector<double> clearance_;
@@ -168,10 +199,10 @@ std::size_t tuck_edges(FractureSurface& s, RefinementTree& tree, const ExteriorS
   SurelyInside inside(s, b);
   for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
     float t = 0.0f;
-    if (s.edge_special[e] == kEdgeBoundary || batch.busy_edge(e) || inside.edge(e) ||
-        deepest_outside_on_edge(s, e, b, o.sample_grid, t) == 0.0)
-      continue;
     const glm::uvec2 ab = s.edges[e];
+    if (s.edge_special[e] == kEdgeBoundary || batch.busy_edge(e) || inside.edge(e) ||
+        deepest_outside_on_edge(s, e, b, o.sample_grid, t, {inside.clearance(ab.x), inside.clearance(ab.y)}) == 0.0)
+      continue;
     const double length = glm::distance(at(s, ab.x), at(s, ab.y));
     if (length <= 2.0 * o.min_edge * o.scale) continue;
     const glm::dvec3 q = inside_target(b, (1.0 - t) * at(s, ab.x) + double(t) * at(s, ab.y),
