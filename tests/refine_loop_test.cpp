@@ -11,6 +11,7 @@
 #include "geom/intersect.hpp"
 #include "refine/flips.hpp"
 #include "refine/refine.hpp"
+#include "refine/topology_edit.hpp"
 #include "surface/surface_examples.hpp"
 
 using namespace fracref;
@@ -176,6 +177,50 @@ TEST(RefineLoop, SplitsRecordTreeWeightsThatReproduceTheCreationPosition) {
       EXPECT_LT(leaf, before.size());
     }
     EXPECT_NEAR(sum, 1.0, 1e-6);
+  }
+}
+
+// The cheap preview the refiner tests insertions on is S after the same splits, as far as the
+// collision tests read it.
+TEST(RefineLoop, SplitPreviewMatchesApplySplits) {
+  FractureSurface s = example_t_junction(2);
+  std::vector<SplitRequest> req;
+  std::vector<char> touched(s.faces.size(), 0);
+  auto take_edge = [&](std::uint8_t kind) {
+    for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
+      if (s.edge_special[e] != kind) continue;
+      bool free = true;
+      for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) free = free && !touched[s.ef_faces[k]];
+      if (!free) continue;
+      for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) touched[s.ef_faces[k]] = 1;
+      return req.push_back({SplitRequest::kEdge, e, glm::vec3(0.4f, 0.6f, 0.0f)});
+    }
+  };
+  take_edge(kEdgeNonManifold);
+  take_edge(kEdgeBoundary);
+  take_edge(kEdgeRegular);
+  for (std::uint32_t f = 0; f < s.faces.size() && req.size() < 6; ++f)
+    if (!touched[f]) req.push_back({SplitRequest::kFace, f, glm::vec3(0.2f, 0.5f, 0.3f)}), touched[f] = 1;
+  ASSERT_EQ(req.size(), 6u);
+  std::vector<glm::vec3> at;
+  for (std::size_t k = 0; k < req.size(); ++k) at.push_back(glm::vec3(0.1f * float(k), 0.5f, 0.25f));
+  RefinementTree parents;
+  const FractureSurface preview = split_preview(s, req, at, &parents);
+  RefinementTree tree = RefinementTree::identity(s.positions.size());
+  FractureSurface full = s;
+  apply_splits(full, tree, req, &at);
+  EXPECT_EQ(preview.positions, full.positions);
+  EXPECT_EQ(preview.faces, full.faces);
+  EXPECT_EQ(preview.face_pieces, full.face_pieces);
+  EXPECT_EQ(preview.edges, full.edges);
+  EXPECT_EQ(preview.ef_offsets, full.ef_offsets);
+  EXPECT_EQ(preview.ef_faces, full.ef_faces);
+  EXPECT_EQ(preview.edge_special, full.edge_special);
+  for (std::size_t v = 0; v < full.positions.size(); ++v)
+    EXPECT_EQ(preview.vertex_flags[v] & kVertexBoundary, full.vertex_flags[v] & kVertexBoundary) << "vertex " << v;
+  for (std::size_t v = s.positions.size(); v < full.positions.size(); ++v) {
+    EXPECT_EQ(parents.parents[v], tree.parents[v]);
+    EXPECT_EQ(parents.weights[v], tree.weights[v]);
   }
 }
 

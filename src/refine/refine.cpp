@@ -323,15 +323,14 @@ Refiner::ElementMotion Refiner::element_motion(const SplitRequest& r, const glm:
 void Refiner::drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::vector<glm::vec3>& start,
                                         std::vector<glm::vec3>& target) const {
   if (chosen.empty()) return;
-  FractureSurface trial = s_;
-  RefinementTree scratch = tree_;
-  std::size_t first_new = trial.positions.size();
-  apply_splits(trial, scratch, chosen, &start);
+  const std::size_t first_new = s_.positions.size();
+  RefinementTree parents;
+  const FractureSurface trial = split_preview(s_, chosen, start, &parents);
   std::vector<glm::vec4> x0 = trial.positions, x1 = trial.positions;
   for (std::size_t k = 0; k < chosen.size(); ++k) x1[first_new + k] = glm::vec4(target[k], 1.0f);
   apply_boundary_constraint(trial, b_, x0, x1);
   std::vector<float> clearance = clearance_;
-  inherit_clearance(trial, scratch, clearance);
+  inherit_clearance(trial, parents, clearance);
   if (o_.collisions) apply_collision_constraints(trial, b_, x0, x1, &clearance);
   std::size_t kept = 0;
   for (std::size_t k = 0; k < chosen.size(); ++k) {

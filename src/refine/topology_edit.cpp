@@ -90,6 +90,32 @@ std::size_t apply_splits(FractureSurface& s, RefinementTree& tree, const std::ve
   return s.positions.size() - before;
 }
 
+FractureSurface split_preview(const FractureSurface& s, const std::vector<SplitRequest>& requests,
+                              const std::vector<glm::vec3>& positions, RefinementTree* parents) {
+  FractureSurface t;
+  t.piece_count = s.piece_count;
+  t.positions = s.positions;
+  t.faces = s.faces;
+  t.face_pieces = s.face_pieces;
+  t.vertex_flags = s.vertex_flags;
+  t.edges = s.edges;  // what split_edge reads
+  t.ef_offsets = s.ef_offsets;
+  t.ef_faces = s.ef_faces;
+  RefinementTree scratch;  // add_vertex records the new vertices' parents
+  scratch.parents.resize(s.positions.size());
+  scratch.weights.resize(s.positions.size());
+  for (std::size_t k = 0; k < requests.size(); ++k) {
+    const SplitRequest& r = requests[k];
+    if (r.kind == SplitRequest::kFace) split_face(t, scratch, r);
+    else split_edge(t, scratch, r);
+    t.positions.back() = glm::vec4(positions[k], 1.0f);
+    if (r.kind == SplitRequest::kEdge && s.edge_special[r.element] == kEdgeBoundary) t.vertex_flags.back() |= kVertexBoundary;
+  }
+  rebuild_edge_table(t);
+  if (parents) *parents = std::move(scratch);
+  return t;
+}
+
 bool flip_candidates(const FractureSurface& s, std::uint32_t edge, glm::uvec2& opposite, glm::uvec2& faces) {
   if (s.edge_special[edge] != kEdgeRegular) return false;
   std::uint32_t f1 = s.ef_faces[s.ef_offsets[edge]], f2 = s.ef_faces[s.ef_offsets[edge] + 1];

@@ -45,6 +45,15 @@ struct SplitRequest {
 std::size_t apply_splits(FractureSurface& s, RefinementTree& tree, const std::vector<SplitRequest>& requests,
                          const std::vector<glm::vec3>* positions = nullptr);
 
+/// S after apply_splits(s, tree, requests, &positions) as far as collision tests read it:
+/// positions, faces, face_pieces, vertex_flags (a new vertex on a split boundary edge flagged
+/// boundary) and the edge table; the rest of the adjacency is not built. Much cheaper than a
+/// copy and apply_splits. `parents`, when given, receives the new vertices' entries of the tree
+/// (sized to the preview's vertices; entries of the old vertices left default).
+/// \pre as apply_splits; one position per request.
+FractureSurface split_preview(const FractureSurface& s, const std::vector<SplitRequest>& requests,
+                              const std::vector<glm::vec3>& positions, RefinementTree* parents = nullptr);
+
 /// Flips the regular edge `edge` shared by faces (a, b, c) and (b, a, d) into (c, a, d), (d, b, c).
 /// Returns false, changing nothing, when the edge is special, its faces are wound inconsistently
 /// or separate different pieces, or the edge c–d already exists. Does NOT rebuild the adjacency:

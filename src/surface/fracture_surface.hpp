@@ -107,6 +107,11 @@ FractureSurface make_fracture_surface(std::vector<glm::vec4> positions, std::vec
 /// \throw RunError when a face index is out of range (the rest of the precondition is unchecked).
 void rebuild_adjacency(FractureSurface& s);
 
+/// Only the edge table of rebuild_adjacency (edges, ef_offsets, ef_faces, face_edges,
+/// edge_special); vf, the vertex flags, components and copies are left as they were. For scratch
+/// copies that only collision tests read. \pre face indices in range.
+void rebuild_edge_table(FractureSurface& s);
+
 /// Piece `piece`'s faces of S, wound outward from the piece (a face's winding is kept where the
 /// piece is its back, reversed where it is its front), vertices numbered as in `copies`.
 /// \throw RunError when piece is not in [0, piece_count).
