@@ -4,7 +4,7 @@
 
 #include "geom/bvh.hpp"
 #include "geom/intersect.hpp"
-#include "geom/parallel.hpp"
+#include "geom/bvh_traverse.hpp"
 #include "util/error.hpp"
 
 namespace fracref {
@@ -21,34 +21,17 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> find_self_intersections(
   BvhOptions tree_options;
   tree_options.threads = options.threads;
   const Bvh tree = build_bvh(positions, triangles, tree_options);  // validates indices and coordinates
-  const std::size_t n = std::min(triangles.size(), options.query_faces);
-  const std::size_t chunks = geom_detail::chunk_count(n);
-  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> parts(chunks);
-  geom_detail::parallel_chunks(n, chunks, options.threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
-    std::vector<std::uint32_t> hits;
-    auto& found = parts[c];
-    // A chunk never needs more than max_report pairs: earlier chunks come first in the output.
-    for (std::size_t i = begin; i < end && found.size() < options.max_report; ++i) {
-      hits.clear();
-      Aabb box;
-      for (std::uint32_t v : triangles[i]) box.expand(positions[v]);
-      query_box(tree, box, hits);
-      std::sort(hits.begin(), hits.end());
-      for (std::uint32_t j : hits) {
-        if (j <= i) continue;
-        if (mesh_faces_intersect(positions, triangles[i], triangles[j])) {
-          found.emplace_back(static_cast<std::uint32_t>(i), j);
-          if (found.size() >= options.max_report) break;
-        }
-      }
-    }
-  });
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
-  for (auto& p : parts) {
-    const std::size_t room = options.max_report - out.size();
-    out.insert(out.end(), p.begin(), p.begin() + static_cast<std::ptrdiff_t>(std::min(room, p.size())));
-    if (out.size() >= options.max_report) break;
-  }
+  // One traversal of the tree against itself (nearby faces share descents), the exact tests in
+  // its tasks; then sorted and truncated, so the answer does not depend on the threads.
+  using Pair = std::pair<std::uint32_t, std::uint32_t>;
+  std::vector<Pair> out = collect_overlaps<Pair>(tree, tree, true, options.threads,
+                                                 [&](std::uint32_t i, std::uint32_t j, std::vector<Pair>& found) {
+                                                   if (i >= options.query_faces) return;
+                                                   if (mesh_faces_intersect(positions, triangles[i], triangles[j]))
+                                                     found.emplace_back(i, j);
+                                                 });
+  std::sort(out.begin(), out.end());
+  if (out.size() > options.max_report) out.resize(options.max_report);
   return out;
 }
 
