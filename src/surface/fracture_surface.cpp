@@ -126,6 +126,11 @@ void rebuild_adjacency(FractureSurface& s) {
 
 void rebuild_edge_table(FractureSurface& s) { surface_detail::build_edges(s); }
 
+void rebuild_after_flips(FractureSurface& s) {
+  surface_detail::build_vertex_faces(s);
+  surface_detail::build_edges(s);
+}
+
 PieceMesh piece_mesh(const FractureSurface& s, int piece) {
   if (piece < 0 || piece >= s.piece_count)
     throw RunError("piece_mesh: piece " + std::to_string(piece) + " out of range (" +

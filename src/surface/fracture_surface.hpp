@@ -107,6 +107,12 @@ FractureSurface make_fracture_surface(std::vector<glm::vec4> positions, std::vec
 /// \throw RunError when a face index is out of range (the rest of the precondition is unchecked).
 void rebuild_adjacency(FractureSurface& s);
 
+/// rebuild_adjacency after edge flips of regular edges between faces of the same piece pair:
+/// only the vertex-face lists and the edge table change (each vertex keeps its pieces, each face
+/// its sides and component, special edges stay), so only those are rebuilt.
+/// \pre the flips were of that kind (validate() compares every derived array with a fresh build).
+void rebuild_after_flips(FractureSurface& s);
+
 /// Only the edge table of rebuild_adjacency (edges, ef_offsets, ef_faces, face_edges,
 /// edge_special); vf, the vertex flags, components and copies are left as they were. For scratch
 /// copies that only collision tests read. \pre face indices in range.
