@@ -157,6 +157,12 @@ bool degenerate_vs_face_beyond_s(const dvec3& s, const dvec3& a, const dvec3& b,
 
 // Faces (s, a, b) and (s, c, d) sharing exactly the vertex s.
 bool meet_beyond_shared_vertex(const dvec3& s, const dvec3& a, const dvec3& b, const dvec3& c, const dvec3& d) {
+  // One face strictly on one side of the other's plane but for s: they meet only at s (the
+  // common case of neighbours in a mesh, decided by two orientations; a degenerate face has no
+  // plane, its orientations are 0 and the test falls through).
+  auto one_side = [](int x, int y) { return x * y > 0; };
+  if (one_side(orient3d(s, a, b, c), orient3d(s, a, b, d)) || one_side(orient3d(s, c, d, a), orient3d(s, c, d, b)))
+    return false;
   const bool deg_p = collinear(s, a, b), deg_q = collinear(s, c, d);
   if (deg_p && deg_q) {
     Piece pp[3], pq[3];
@@ -168,11 +174,6 @@ bool meet_beyond_shared_vertex(const dvec3& s, const dvec3& a, const dvec3& b, c
   }
   if (deg_p) return degenerate_vs_face_beyond_s(s, a, b, c, d);
   if (deg_q) return degenerate_vs_face_beyond_s(s, c, d, a, b);
-  // One face strictly on one side of the other's plane but for s: they meet only at s (the
-  // common case of neighbours in a mesh, decided by two orientations).
-  auto one_side = [](int x, int y) { return x * y > 0; };
-  if (one_side(orient3d(s, a, b, c), orient3d(s, a, b, d)) || one_side(orient3d(s, c, d, a), orient3d(s, c, d, b)))
-    return false;
   // The intersection is convex and contains s; a second point lies on an edge of one face
   // inside the other. Edges opposite s cannot contain s; edges at s need the cone test.
   const Triangle3 p{s, a, b}, q{s, c, d};
@@ -183,9 +184,11 @@ bool meet_beyond_shared_vertex(const dvec3& s, const dvec3& a, const dvec3& b, c
 
 // Faces (s, t, a) and (s, t, b) sharing exactly the edge st.
 bool meet_beyond_shared_edge(const dvec3& s, const dvec3& t, const dvec3& a, const dvec3& b) {
+  // Not coplanar: both faces have planes (a degenerate one makes the four points coplanar), and
+  // two faces in different planes through st meet only along it.
+  if (orient3d(s, t, a, b) != 0) return false;
   const bool deg_p = collinear(s, t, a), deg_q = collinear(s, t, b);
   if (!deg_p && !deg_q) {
-    if (orient3d(s, t, a, b) != 0) return false;
     const int axis = projection_axis(s, t, a);
     return orient2d(drop(s, axis), drop(t, axis), drop(a, axis)) * orient2d(drop(s, axis), drop(t, axis), drop(b, axis)) > 0;
   }
@@ -223,6 +226,10 @@ bool segments_intersect(const dvec3& a, const dvec3& b, const dvec3& c, const dv
 }
 
 bool triangles_intersect(const Triangle3& p, const Triangle3& q) {
+  // p strictly on one side of q's plane (q then has a plane): the common case, three orientations.
+  int op[3], oq[3];
+  for (int k = 0; k < 3; ++k) op[k] = orient3d(q[0], q[1], q[2], p[k]);
+  if ((op[0] > 0 && op[1] > 0 && op[2] > 0) || (op[0] < 0 && op[1] < 0 && op[2] < 0)) return false;
   const int ap = projection_axis(p), aq = projection_axis(q);
   if (ap < 0 || aq < 0) {
     // A degenerate triangle is the union of its edges.
@@ -232,9 +239,6 @@ bool triangles_intersect(const Triangle3& p, const Triangle3& q) {
       if (segment_triangle_intersect(seg[k], seg[(k + 1) % 3], other)) return true;
     return false;
   }
-  int op[3], oq[3];
-  for (int k = 0; k < 3; ++k) op[k] = orient3d(q[0], q[1], q[2], p[k]);
-  if ((op[0] > 0 && op[1] > 0 && op[2] > 0) || (op[0] < 0 && op[1] < 0 && op[2] < 0)) return false;
   if (op[0] == 0 && op[1] == 0 && op[2] == 0) {
     const dvec2 p2[3] = {drop(p[0], aq), drop(p[1], aq), drop(p[2], aq)};
     const dvec2 q2[3] = {drop(q[0], aq), drop(q[1], aq), drop(q[2], aq)};
