@@ -7,25 +7,16 @@
 #include <random>
 
 #include "batch/bench.hpp"
+#include "geom/morton.hpp"
 
 namespace fracref {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::uint64_t spread3(std::uint64_t v) {  // 21 bits -> every third bit
-  v &= 0x1fffff;
-  v = (v | v << 32) & 0x1f00000000ffffull;
-  v = (v | v << 16) & 0x1f0000ff0000ffull;
-  v = (v | v << 8) & 0x100f00f00f00f00full;
-  v = (v | v << 4) & 0x10c30c30c30c30c3ull;
-  v = (v | v << 2) & 0x1249249249249249ull;
-  return v;
-}
-
 std::uint64_t morton(glm::vec3 p) {  // p in [-1.5, 1.5]³
   const glm::uvec3 q = glm::uvec3(glm::clamp((p + 1.5f) / 3.0f, 0.0f, 1.0f) * float((1 << 21) - 1));
-  return spread3(q.x) | spread3(q.y) << 1 | spread3(q.z) << 2;
+  return morton_spread3(q.x) | morton_spread3(q.y) << 1 | morton_spread3(q.z) << 2;
 }
 
 /// The permutation sorting `points` by Morton code (ties by index: deterministic).

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "geom/bvh_traverse.hpp"
+#include "geom/morton.hpp"
 #include "util/error.hpp"
 
 namespace fracref {
@@ -48,19 +49,11 @@ std::vector<Keyed> morton_sorted(const std::vector<Aabb>& boxes) {
   const dvec3 ext = bounds.hi - bounds.lo;
   const double side = std::max({ext.x, ext.y, ext.z});
   const double scale = side > 0.0 ? double((1u << 21) - 1) / side : 0.0;
-  auto spread = [](std::uint64_t v) {
-    v &= 0x1fffffull;
-    v = (v | v << 32) & 0x1f00000000ffffull;
-    v = (v | v << 16) & 0x1f0000ff0000ffull;
-    v = (v | v << 8) & 0x100f00f00f00f00full;
-    v = (v | v << 4) & 0x10c30c30c30c30c3ull;
-    v = (v | v << 2) & 0x1249249249249249ull;
-    return v;
-  };
+  auto spread = [](double t) { return morton_spread3(std::uint64_t(t)); };
   std::vector<Keyed> items(boxes.size());
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     const dvec3 t = glm::clamp(((boxes[i].lo + boxes[i].hi) - bounds.lo) * scale, 0.0, double((1u << 21) - 1));
-    items[i] = {spread(std::uint64_t(t.x)) << 2 | spread(std::uint64_t(t.y)) << 1 | spread(std::uint64_t(t.z)),
+    items[i] = {spread(t.x) << 2 | spread(t.y) << 1 | spread(t.z),
                 std::uint32_t(i)};
   }
   radix_sort(items);  // stable: ties stay in id order
