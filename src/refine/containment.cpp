@@ -136,9 +136,9 @@ class SplitBatch {
     return true;
   }
 
-  // Makes the queued splits; returns how many.
-  std::size_t apply(FractureSurface& s, RefinementTree& tree) {
-    if (!requests_.empty()) apply_splits(s, tree, requests_, &targets_);
+  // Makes the queued splits; returns how many. See apply_splits for `full_rebuild`.
+  std::size_t apply(FractureSurface& s, RefinementTree& tree, bool full_rebuild = true) {
+    if (!requests_.empty()) apply_splits(s, tree, requests_, &targets_, full_rebuild);
     return requests_.size();
   }
 
@@ -260,7 +260,12 @@ std::size_t tuck_faces(FractureSurface& s, RefinementTree& tree, const ExteriorS
 
 }  // namespace
 
-std::size_t split_rim_chords(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
+namespace {
+
+// One pass of split_rim_chords; the chords' midpoints are inside B, so the new vertices are
+// interior and between passes the edge table is all that must be rebuilt.
+std::size_t split_rim_chords_once(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o,
+                                  bool full_rebuild) {
   SplitBatch batch(s);
   for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
     const glm::uvec2 ab = s.edges[e];
@@ -276,7 +281,21 @@ std::size_t split_rim_chords(FractureSurface& s, RefinementTree& tree, const Ext
     if (b.contains(q) && batch.add_edge(e, 0.5f, q)) continue;
     if (q != mid && mid_inside) batch.add_edge(e, 0.5f, mid);
   }
-  return batch.apply(s, tree);
+  return batch.apply(s, tree, full_rebuild);
+}
+
+}  // namespace
+
+std::size_t split_rim_chords(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o,
+                             int passes) {
+  std::size_t total = 0;
+  for (int pass = 0; pass < passes; ++pass) {
+    const std::size_t made = split_rim_chords_once(s, tree, b, o, false);
+    total += made;
+    if (made == 0) break;
+  }
+  if (total > 0) rebuild_adjacency(s);
+  return total;
 }
 
 bool face_meets_exterior(const FractureSurface& s, std::uint32_t f, const ExteriorSurface& b) {

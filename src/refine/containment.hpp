@@ -44,11 +44,12 @@ std::size_t tuck_inside(FractureSurface& s, RefinementTree& tree, const Exterior
 /// with four faces) at its midpoint, moved inside B by min(margin · scale, a tenth of the edge)
 /// when it is outside or nearer to B than that; when the faces of that split would meet another
 /// face of S, at the midpoint itself if it is inside B (the new faces then keep the old ones'
-/// planes). One pass, each face split at most once; a split whose new faces would meet another
-/// face of S is not made. Returns the number of splits.
+/// planes). Up to `passes` passes (each face split at most once per pass; a chord whose face was
+/// split in a pass waits for the next), until a pass splits nothing; a split whose new faces would
+/// meet another face of S is not made. Returns the number of splits. s is valid on return.
 /// \pre s valid, tree covers every vertex of s.
 std::size_t split_rim_chords(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& exterior,
-                             const TuckOptions& options = {});
+                             const TuckOptions& options = {}, int passes = 1);
 
 /// Whether face f of S meets B away from its own corners on B (see tuck_inside).
 bool face_meets_exterior(const FractureSurface& s, std::uint32_t f, const ExteriorSurface& exterior);

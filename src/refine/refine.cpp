@@ -422,8 +422,7 @@ RefineResult Refiner::run(const RefineProgress& progress) {
       break;
     }
   }
-  for (int pass = 0; pass < kChordPasses && split_rim_chords(s_, tree_, b_, tuck_options()) > 0; ++pass) {
-  }
+  split_rim_chords(s_, tree_, b_, tuck_options(), kChordPasses);
   // Every edit is meant to keep S valid; a violation here is a bug, and it must not reach the
   // pieces or the output files silently.
   if (std::string broken = validate(s_); !broken.empty())

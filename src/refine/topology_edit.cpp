@@ -78,7 +78,7 @@ void split_edge(FractureSurface& s, RefinementTree& tree, const SplitRequest& r)
 }  // namespace
 
 std::size_t apply_splits(FractureSurface& s, RefinementTree& tree, const std::vector<SplitRequest>& requests,
-                         const std::vector<glm::vec3>* positions) {
+                         const std::vector<glm::vec3>* positions, bool full_rebuild) {
   std::size_t before = s.positions.size();
   for (std::size_t k = 0; k < requests.size(); ++k) {
     const SplitRequest& r = requests[k];
@@ -86,7 +86,8 @@ std::size_t apply_splits(FractureSurface& s, RefinementTree& tree, const std::ve
     else split_edge(s, tree, r);
     if (positions) s.positions.back() = glm::vec4((*positions)[k], 1.0f);
   }
-  rebuild_adjacency(s);
+  if (full_rebuild) rebuild_adjacency(s);
+  else rebuild_edge_table(s);
   return s.positions.size() - before;
 }
 
