@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "field/field_sampler.hpp"
 #include "refine/collisions.hpp"
 #include "refine/containment.hpp"
 #include "refine/flips.hpp"
@@ -38,6 +39,7 @@ class Refiner {
  private:
   SurfaceView view() const { return {s_.positions, s_.faces, s_.vf_offsets, s_.vf_faces}; }
   void evaluate();
+  void sample_new_vertices();
   double energy() const { return surface_energy(view(), samples_); }
   std::vector<float> shortest_edges() const;
   float choose_dt(const std::vector<float>& shortest) const;
@@ -66,6 +68,15 @@ class Refiner {
   bool budget_reached_ = false;   // a split was refused because it would exceed max_triangles
   std::vector<float> clearance_;  // per vertex, a lower bound of the distance to B (< 0: unknown)
 };
+
+// The splits leave old vertices where they were: only the new ones need ψ (for the flips'
+// energy test) before the evaluation that follows the flips. sample_field is the CPU backend's
+// own sampling, and the Vulkan kernel's is bit-identical to it.
+void Refiner::sample_new_vertices() {
+  const std::size_t first = samples_.size();
+  samples_.resize(s_.positions.size());
+  for (std::size_t v = first; v < samples_.size(); ++v) samples_[v] = sample_field(field_, glm::vec3(s_.positions[v]));
+}
 
 void Refiner::evaluate() {
   samples_.resize(s_.positions.size());
@@ -403,9 +414,9 @@ RefineResult Refiner::run(const RefineProgress& progress) {
     const auto t0 = std::chrono::steady_clock::now();
     IterationStats st = flow_step();
     st.splits = refine_step(std::uint32_t(it));
-    evaluate();
+    sample_new_vertices();
     st.flips = flip_slim_triangles(s_, samples_, b_, FlipOptions{o_.min_angle});
-    if (st.flips > 0) evaluate();
+    evaluate();
     st.energy = energy();
     st.triangles = s_.faces.size();
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
