@@ -93,12 +93,7 @@ std::size_t apply_splits(FractureSurface& s, RefinementTree& tree, const std::ve
 
 FractureSurface split_preview(const FractureSurface& s, const std::vector<SplitRequest>& requests,
                               const std::vector<glm::vec3>& positions, RefinementTree* parents) {
-  FractureSurface t;
-  t.piece_count = s.piece_count;
-  t.positions = s.positions;
-  t.faces = s.faces;
-  t.face_pieces = s.face_pieces;
-  t.vertex_flags = s.vertex_flags;
+  FractureSurface t = primary_copy(s);
   t.edges = s.edges;  // what split_edge reads
   t.ef_offsets = s.ef_offsets;
   t.ef_faces = s.ef_faces;

@@ -124,6 +124,16 @@ void rebuild_adjacency(FractureSurface& s) {
   surface_detail::build_copies(s);
 }
 
+FractureSurface primary_copy(const FractureSurface& s) {
+  FractureSurface t;
+  t.positions = s.positions;
+  t.faces = s.faces;
+  t.face_pieces = s.face_pieces;
+  t.vertex_flags = s.vertex_flags;
+  t.piece_count = s.piece_count;
+  return t;
+}
+
 void rebuild_edge_table(FractureSurface& s) { surface_detail::build_edges(s); }
 
 void rebuild_after_flips(FractureSurface& s) {

@@ -107,6 +107,10 @@ FractureSurface make_fracture_surface(std::vector<glm::vec4> positions, std::vec
 /// \throw RunError when a face index is out of range (the rest of the precondition is unchecked).
 void rebuild_adjacency(FractureSurface& s);
 
+/// A copy of s's primary arrays (positions, faces, face_pieces, vertex_flags, piece_count) with
+/// every derived array empty: the start of a fresh rebuild or of a scratch edit.
+FractureSurface primary_copy(const FractureSurface& s);
+
 /// rebuild_adjacency after edge flips of regular edges between faces of the same piece pair:
 /// only the vertex-face lists and the edge table change (each vertex keeps its pieces, each face
 /// its sides and component, special edges stay), so only those are rebuilt.

@@ -282,12 +282,7 @@ std::string check_piece_edges(const FractureSurface& s) {
 
 std::string check_derived(const FractureSurface& s) {
   if (std::string m = check_derived_shapes(s); !m.empty()) return m;
-  FractureSurface fresh;
-  fresh.positions = s.positions;
-  fresh.faces = s.faces;
-  fresh.face_pieces = s.face_pieces;
-  fresh.vertex_flags = s.vertex_flags;
-  fresh.piece_count = s.piece_count;
+  FractureSurface fresh = primary_copy(s);
   rebuild_adjacency(fresh);
   using Check = std::string (*)(const FractureSurface&, const FractureSurface&);
   for (Check check : {check_vf, check_edge_list, check_ef, check_face_edges, check_edge_special, check_flags,
