@@ -97,7 +97,7 @@ std::vector<std::vector<std::uint32_t>> FaceGuard::batch_conflicts(const std::ve
   std::vector<Pair> pairs = collect_overlaps<Pair>(tree, tree, true, threads, [&](std::uint32_t i, std::uint32_t j, std::vector<Pair>& out) {
     for (const TriangleIds& a : faces[i])
       for (const TriangleIds& b : faces[j])
-        if (mesh_faces_intersect(x_, b, a)) return out.push_back({j, i});
+        if (mesh_faces_intersect(x_, a, b)) return out.push_back({j, i});
   });
   std::sort(pairs.begin(), pairs.end());
   std::vector<std::vector<std::uint32_t>> out(faces.size());

@@ -11,16 +11,6 @@
 
 namespace fracref {
 
-double min_angle_degrees(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-  auto angle = [](const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& r) {
-    glm::dvec3 u = q - p, v = r - p;
-    double lu = glm::length(u), lv = glm::length(v);
-    if (lu == 0.0 || lv == 0.0) return 0.0;
-    return std::acos(std::clamp(glm::dot(u, v) / (lu * lv), -1.0, 1.0)) * 180.0 / M_PI;
-  };
-  return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)});
-}
-
 namespace {
 
 struct Quad {

@@ -28,7 +28,4 @@ struct FlipOptions {
 std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> samples, const ExteriorSurface& exterior,
                                 const FlipOptions& options);
 
-/// The smallest interior angle of triangle (a, b, c), in degrees (0 for a degenerate one).
-double min_angle_degrees(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
-
 }  // namespace fracref
