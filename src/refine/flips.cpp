@@ -145,7 +145,6 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
     ++flips;
   }
   if (flips) rebuild_after_flips(s);
-  if (getenv("FRACREF_HASH")) { std::uint64_t h = 1469598103934665603ull; for (auto& f : s.faces) { h = (h ^ f.x) * 1099511628211ull; h = (h ^ f.y) * 1099511628211ull; h = (h ^ f.z) * 1099511628211ull; } fprintf(stderr, "FLIPHASH %zu %zu %llx\n", candidates.size(), flips, (unsigned long long)h); }
   return flips;
 }
 
