@@ -65,7 +65,7 @@ struct RefineRun {
   RefineResult result;
 };
 
-RefineRun run_refine(std::uint64_t seed, int iterations, std::size_t max_triangles = 4000) {
+RefineRun run_refine(std::uint64_t seed, int iterations, std::size_t max_triangles = 4000, double budget_slack = 0.0) {
   static const ExteriorSurface b = make_exterior(unit_cube(), "cube");
   static const FieldGrid4 field = wavy_field();
   RefineRun r{sheet(4, 0.5f), {}};
@@ -76,6 +76,7 @@ RefineRun run_refine(std::uint64_t seed, int iterations, std::size_t max_triangl
   o.delta = 0.01;
   o.max_iterations = iterations;
   o.max_triangles = max_triangles;
+  o.budget_slack = budget_slack;
   o.seed = seed;
   r.result = refine_surface(r.s, field, b, *backend, o);
   return r;
@@ -149,6 +150,25 @@ TEST(RefineLoop, BudgetStopsTheLoopAtTheFirstRefusedSplit) {
     EXPECT_LE(r.result.iterations.back().triangles, budget);
     EXPECT_GE(r.s.faces.size(), r.result.iterations.back().triangles);
   }
+}
+
+// With a slack, the loop also stops after the first iteration that ends within slack·budget of
+// the budget; the iterations before it are those of the run without the slack.
+TEST(RefineLoop, BudgetSlackStopsTheLoopNearTheBudget) {
+  const std::size_t budget = 63;
+  const double slack = 0.25;
+  const RefineRun strict = run_refine(9, 25, budget);
+  std::size_t expected = 0;
+  while (expected < strict.result.iterations.size() &&
+         double(budget) - double(strict.result.iterations[expected].triangles) >= slack * double(budget))
+    ++expected;
+  ASSERT_LT(expected + 1, strict.result.iterations.size());  // the slack must cut the strict run short
+  const RefineRun r = run_refine(9, 25, budget, slack);
+  ASSERT_EQ(validate(r.s), "");
+  EXPECT_EQ(r.result.stop, RefineResult::Stop::kTriangleBudget);
+  ASSERT_EQ(r.result.iterations.size(), expected + 1);
+  for (std::size_t k = 0; k <= expected; ++k)
+    EXPECT_EQ(r.result.iterations[k].triangles, strict.result.iterations[k].triangles) << "iteration " << k;
 }
 
 TEST(RefineLoop, SplitsRecordTreeWeightsThatReproduceTheCreationPosition) {

@@ -34,10 +34,14 @@ void JobReport::refined(const FractureSurface& coarse, const FractureSurface& re
   const char* stops[] = {"converged", "triangle budget", "iteration cap"};
   j_["stop"] = stops[int(r.stop)];
   nlohmann::ordered_json its = nlohmann::ordered_json::array();
-  for (const IterationStats& st : r.iterations)
+  for (const IterationStats& st : r.iterations) {
+    const IterationStats::Phases& p = st.phases;
     its.push_back({{"energy", st.energy}, {"triangles", st.triangles}, {"max_displacement", st.max_displacement},
                    {"collisions_stopped", st.collisions_stopped}, {"splits", st.splits}, {"flips", st.flips},
-                   {"dt", st.dt}, {"seconds", st.seconds}});
+                   {"dt", st.dt}, {"seconds", st.seconds},
+                   {"phase_seconds", {{"splits", p.splits}, {"flips", p.flips}, {"evaluate", p.evaluate},
+                                      {"flow", p.flow}, {"flow_collisions", p.flow_collisions}}}});
+  }
   j_["iterations"] = its;
   j_["mean_strength"] = {{"coarse", mean_strength(coarse, zeta)}, {"refined", mean_strength(refined, zeta)}};
   const CoarseDistance d = distance_to_coarse(coarse, refined);

@@ -28,6 +28,9 @@ constexpr int kConformPasses = 8;
 // Passes of split_rim_chords after the loop (a pass splits each face at most once).
 constexpr int kChordPasses = 4;
 
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
 class Refiner {
  public:
   Refiner(FractureSurface& s, const FieldGrid4& field, const ExteriorSurface& b, ComputeBackend& be,
@@ -48,8 +51,9 @@ class Refiner {
   void conform_boundary();
   // Containment splits: lengths in the scene's unit, nothing split below the sample spacing.
   TuckOptions tuck_options() const { return {.scale = o_.scale, .min_edge = o_.delta}; }
-  IterationStats flow_step();
+  bool flow_step(double ceiling, IterationStats& st);
   std::size_t refine_step(std::uint32_t iteration);
+  IterationStats iterate(std::uint32_t iteration, double e_before);
   struct ElementMotion {
     glm::vec3 sample{0.0f}, interpolated{0.0f};
   };
@@ -67,6 +71,11 @@ class Refiner {
   std::vector<glm::vec4> samples_, velocity_;
   bool budget_reached_ = false;   // a split was refused because it would exceed max_triangles
   std::vector<float> clearance_;  // per vertex, a lower bound of the distance to B (< 0: unknown)
+  // The vertices the last splits inserted (ids from first_inserted_ on) and the moves that
+  // judged them (see inserted_step).
+  std::size_t first_inserted_ = 0;
+  std::vector<glm::vec3> insertion_moves_;
+  bool inserted_step(std::size_t v, float shortest, glm::vec3& d) const;
 };
 
 // The splits leave old vertices where they were: only the new ones need ψ (for the flips'
@@ -159,11 +168,24 @@ float Refiner::choose_dt(const std::vector<float>& shortest) const {
   return *mid;
 }
 
+// A vertex inserted by the last splits takes, in the flow step after them, the move that judged
+// its split (over its element's time scale, which the global step does not give it: with the
+// global step refinement slowed, the branch took 13 iterations instead of 10). Near B it takes
+// the ordinary step: boundary vertices and vertices within a few steps of B moved that far left
+// slivers along the rim that made the pieces stage retry (bunny: 13 attempts instead of 7).
+bool Refiner::inserted_step(std::size_t v, float shortest, glm::vec3& d) const {
+  if (v < first_inserted_ || v - first_inserted_ >= insertion_moves_.size()) return false;
+  if ((s_.vertex_flags[v] & kVertexBoundary) || !(clearance_[v] > 4.0f * kStepFraction * shortest)) return false;
+  d = insertion_moves_[v - first_inserted_];
+  return true;
+}
+
+// Takes the step when it brings E to at most `ceiling` (backtracking as above); false when no
+// step does, S then unchanged.
 // \pre samples_ and velocity_ are those of the current positions (run() evaluates after every
 // edit; each evaluation is a kernel call, with a fixed cost on Vulkan).
-IterationStats Refiner::flow_step() {
-  IterationStats st;
-  const double e0 = energy();
+bool Refiner::flow_step(double ceiling, IterationStats& st) {
+  const double e0 = ceiling;
   const std::vector<float> shortest = shortest_edges();
   const std::vector<glm::vec3> boundary_tangent = boundary_tangents();
   const std::vector<float> stiff_dt = stiffness_steps();
@@ -173,12 +195,15 @@ IterationStats Refiner::flow_step() {
   for (std::size_t i = 0; i < x0.size(); ++i) {
     glm::vec3 d = std::min(dt, stiff_dt[i]) * glm::vec3(velocity_[i]);
     d -= glm::dot(d, boundary_tangent[i]) * boundary_tangent[i];
+    inserted_step(i, shortest[i], d);
     float len = glm::length(d), cap = kStepFraction * shortest[i];
     if (len > cap) d *= cap / len;
     full[i] = glm::vec4(glm::vec3(x0[i]) + d, 1.0f);
   }
   apply_boundary_constraint(s_, b_, x0, full);
+  const auto t_ccd = Clock::now();
   st.collisions_stopped = o_.collisions ? apply_collision_constraints(s_, b_, x0, full, &clearance_) : 0;
+  st.phases.flow_collisions = seconds_since(t_ccd);
   // Backtracking shortens the constrained, collision-free motion: every vertex then follows the
   // first part of the same straight path, which is collision-free too (boundary vertices are
   // projected back onto B, a deviation of second order in the step).
@@ -196,11 +221,11 @@ IterationStats Refiner::flow_step() {
         st.max_displacement = std::max<double>(st.max_displacement, glm::distance(glm::vec3(x0[i]), glm::vec3(x1[i])));
       samples_ = std::move(trial);
       velocity_ = std::move(vel);
-      return st;
+      return true;
     }
   }
   s_.positions = x0;  // no step lowered the energy: stay (samples_ and velocity_ are x0's still)
-  return st;
+  return false;
 }
 
 // The faces a split request touches, and the energy change of the split with the new vertex at
@@ -254,11 +279,13 @@ SplitEffect split_effect(const FractureSurface& s, const std::vector<glm::vec4>&
   return fx;
 }
 
-// A split inserts the sample where one flow step would take it (paper 4.4: "if it moves too far
-// away from the triangle after one iteration, we add it as a new vertex"), and only when that
-// lowers the energy. The tree records the sample's weights on its parent element (its position
-// at creation); the move to the stepped position is motion like any other, checked for collisions
-// on a trial copy first so that S stays intersection-free.
+// A sample whose flow step would take it too far from its element (paper 4.4: "if it moves too
+// far away from the triangle after one iteration, we add it as a new vertex") is inserted where it
+// lies, when moving it where the step would take it lowers the energy. The tree records its
+// weights on the parent element (its position at creation). Inserting it on its element leaves
+// the shape as it was, so no collision test is needed here: the flow step that follows moves the
+// new vertices with all the others, under the same collision constraints. (A boundary sample
+// lies on B, off its edge's chord: that jump is not tested, as the rim chords are not.)
 std::size_t Refiner::refine_step(std::uint32_t iteration) {
   const float scale = float(o_.scale);
   SampleSet set = draw_samples(s_, o_.seed, iteration, float(o_.delta) * scale);
@@ -274,7 +301,9 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
   be_.sample_tests(s_.positions, samples_, SampleView{set.points, set.fan_offsets, set.fan_pairs}, out);
   std::vector<char> touched(s_.faces.size(), 0);
   std::vector<SplitRequest> chosen;
-  std::vector<glm::vec3> start, target;
+  std::vector<glm::vec3> start;
+  first_inserted_ = s_.positions.size();
+  insertion_moves_.clear();
   std::size_t faces = s_.faces.size();
   for (std::size_t k = 0; k < set.points.size(); ++k) {
     glm::vec3 p(set.points[k]);
@@ -290,9 +319,9 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
     if (fx.offset <= float(o_.tau) * scale) continue;
     if (std::any_of(fx.faces.begin(), fx.faces.end(), [&](std::uint32_t f) { return touched[f] != 0; })) continue;
     // The full step overshoots where the new faces' extra area outweighs the weaker material
-    // reached, so the insertion point is backtracked along the step until it lowers E.
-    glm::vec3 q;
+    // reached, so the move is backtracked along the step until it lowers E.
     bool lowers = false;
+    glm::vec3 q;
     for (int halving = 0; halving < kInsertBacktracks && !lowers; ++halving, d *= 0.5f) {
       q = p + d;
       if (on_boundary[k]) q = glm::vec3(b_.closest_point(glm::dvec3(q)));
@@ -308,10 +337,9 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
     for (std::uint32_t f : fx.faces) touched[f] = 1;
     chosen.push_back(set.requests[k]);
     start.push_back(p);
-    target.push_back(q);
+    insertion_moves_.push_back(q - p);
   }
-  drop_colliding_insertions(chosen, start, target);
-  apply_splits(s_, tree_, chosen, &target);
+  apply_splits(s_, tree_, chosen, &start);
   inherit_clearance(s_, tree_, clearance_);
   return chosen.size();
 }
@@ -401,6 +429,41 @@ void Refiner::conform_boundary() {
   }
 }
 
+// Splits, flips, then one flow step that moves the new vertices with the others. The splits may
+// raise E a little (ψ at a sample is not the interpolation of its corners'), so the step must
+// bring E to at most `e_before`, the energy the iteration started at; when no step does, the
+// iteration's splits and flips are undone and S stays as it was. The step itself must lower E
+// from where the splits left it, as any descent step.
+IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
+  IterationStats st;
+  const auto t0 = Clock::now();
+  const FractureSurface s_before = s_;
+  const std::vector<glm::vec4> samples_before = samples_, velocity_before = velocity_;
+  st.splits = refine_step(it);
+  sample_new_vertices();
+  st.phases.splits = seconds_since(t0);
+  auto t1 = Clock::now();
+  st.flips = flip_slim_triangles(s_, samples_, b_, FlipOptions{o_.min_angle});
+  st.phases.flips = seconds_since(t1);
+  t1 = Clock::now();
+  if (st.splits + st.flips > 0) evaluate();
+  st.phases.evaluate = seconds_since(t1);
+  t1 = Clock::now();
+  const bool moved = flow_step(std::min(e_before, energy()), st);
+  st.phases.flow = seconds_since(t1);
+  if (!moved && energy() > e_before) {
+    s_ = s_before;
+    samples_ = samples_before, velocity_ = velocity_before;
+    tree_.parents.resize(s_.positions.size()), tree_.weights.resize(s_.positions.size());
+    clearance_.resize(s_.positions.size());
+    st.splits = st.flips = 0;
+  }
+  st.energy = energy();
+  st.triangles = s_.faces.size();
+  st.seconds = seconds_since(t0);
+  return st;
+}
+
 RefineResult Refiner::run(const RefineProgress& progress) {
   RefineResult result;
   tree_ = RefinementTree::identity(s_.positions.size());
@@ -410,21 +473,16 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   tuck_inside(s_, tree_, b_, tuck_options());
   evaluate();
   result.initial_energy = energy();
+  double e = result.initial_energy;
   for (int it = 0; it < o_.max_iterations; ++it) {
-    const auto t0 = std::chrono::steady_clock::now();
-    IterationStats st = flow_step();
-    st.splits = refine_step(std::uint32_t(it));
-    sample_new_vertices();
-    st.flips = flip_slim_triangles(s_, samples_, b_, FlipOptions{o_.min_angle});
-    evaluate();
-    st.energy = energy();
-    st.triangles = s_.faces.size();
-    st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    IterationStats st = iterate(std::uint32_t(it), e);
+    e = st.energy;
     result.iterations.push_back(st);
     if (progress) progress(st, it, o_.max_iterations);
     // Once a split has been refused for the budget, the surface is within one split of it:
     // further iterations would add a handful of faces each at the full cost of an iteration.
-    if (budget_reached_ || s_.faces.size() >= o_.max_triangles) {
+    const double room = double(o_.max_triangles) - double(s_.faces.size());
+    if (budget_reached_ || room < o_.budget_slack * double(o_.max_triangles)) {
       result.stop = RefineResult::Stop::kTriangleBudget;
       break;
     }

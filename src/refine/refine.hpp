@@ -21,6 +21,9 @@ struct RefineOptions {
   double tolerance = 1e-5;      ///< stop when the largest displacement < tolerance·scale and nothing split
   int max_iterations = 60;
   std::size_t max_triangles = 200000;  ///< stop once a split would exceed this many faces (the chord splits after the loop may add a few)
+  /// Stop also once fewer than budget_slack·max_triangles faces are left to the budget: another
+  /// iteration would add that little at the cost of an iteration at full size.
+  double budget_slack = 0.03;
   std::uint64_t seed = 1;
   double min_angle = 20.0;      ///< degrees: flip edges of faces with a smaller angle
   bool collisions = true;       ///< continuous collision detection of S against itself and B
@@ -35,6 +38,12 @@ struct IterationStats {
   std::size_t splits = 0, flips = 0;
   double dt = 0.0;
   double seconds = 0.0;  ///< wall-clock time of the iteration (flow step, splits, flips)
+  /// Wall-clock seconds of the iteration's parts, in their order: the splits, the flips, the
+  /// evaluation of the velocities after them, and the flow step (its collision constraints
+  /// included, and also given alone).
+  struct Phases {
+    double splits = 0.0, flips = 0.0, evaluate = 0.0, flow = 0.0, flow_collisions = 0.0;
+  } phases;
 };
 
 struct RefineResult {
