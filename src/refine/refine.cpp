@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "field/field_sampler.hpp"
+#include "geom/parallel.hpp"
 #include "refine/collisions.hpp"
 #include "refine/containment.hpp"
 #include "refine/flips.hpp"
@@ -27,6 +28,8 @@ constexpr double kConformTolerance = 2e-4;  // of the diagonal
 constexpr int kConformPasses = 8;
 // Passes of split_rim_chords after the loop (a pass splits each face at most once).
 constexpr int kChordPasses = 4;
+// Threads judging the split samples (the verdicts do not depend on it).
+constexpr int kThreads = 2;
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
@@ -57,6 +60,11 @@ class Refiner {
   struct ElementMotion {
     glm::vec3 sample{0.0f}, interpolated{0.0f};
   };
+  struct Verdict {
+    bool split = false;
+    glm::vec3 move{0.0f};  // where the judging step takes the sample, from it
+  };
+  Verdict judge_sample(const SplitRequest& r, const glm::vec3& p, const glm::vec4& tested, bool on_boundary) const;
   ElementMotion element_motion(const SplitRequest& r, const glm::vec3& v_sample, float shortest) const;
   void drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::vector<glm::vec3>& start,
                                  std::vector<glm::vec3>& target) const;
@@ -228,10 +236,9 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
   return false;
 }
 
-// The faces a split request touches, and the energy change of the split with the new vertex at
-// `p` with field value psi_p: Σ_new A ψ̄ − Σ_old A ψ̄ over those faces.
+// The energy change of a split with the new vertex at `p` with field value psi_p:
+// Σ_new A ψ̄ − Σ_old A ψ̄ over the faces it replaces.
 struct SplitEffect {
-  std::vector<std::uint32_t> faces;
   double delta_energy = 0.0;
   float offset = 0.0f;  // how far the sample would move off its element
   float shortest = 0.0f;
@@ -252,7 +259,6 @@ SplitEffect split_effect(const FractureSurface& s, const std::vector<glm::vec4>&
   auto q = [&](std::uint32_t v) { return double(psi[v].x); };
   if (r.kind == SplitRequest::kFace) {
     glm::uvec4 f = s.faces[r.element];
-    fx.faces = {r.element};
     fx.delta_energy = face_energy(x(f.x), x(f.y), p, q(f.x), q(f.y), psi_p) +
                       face_energy(x(f.y), x(f.z), p, q(f.y), q(f.z), psi_p) +
                       face_energy(x(f.z), x(f.x), p, q(f.z), q(f.x), psi_p) -
@@ -268,7 +274,6 @@ SplitEffect split_effect(const FractureSurface& s, const std::vector<glm::vec4>&
     std::uint32_t fi = s.ef_faces[k];
     glm::uvec4 f = s.faces[fi];
     std::uint32_t z = f.x + f.y + f.z - e.x - e.y;  // the vertex opposite the edge
-    fx.faces.push_back(fi);
     fx.delta_energy += face_energy(x(e.x), p, x(z), q(e.x), psi_p, q(z)) + face_energy(p, x(e.y), x(z), psi_p, q(e.y), q(z)) -
                        face_energy(x(e.x), x(e.y), x(z), q(e.x), q(e.y), q(z));
   }
@@ -299,6 +304,13 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
   }
   std::vector<glm::vec4> out(set.points.size());
   be_.sample_tests(s_.positions, samples_, SampleView{set.points, set.fan_offsets, set.fan_pairs}, out);
+  // Verdicts side by side, then the splits in sample order: at most one per face, within budget.
+  std::vector<Verdict> verdicts(set.points.size());
+  geom_detail::parallel_chunks(set.points.size(), geom_detail::chunk_count(set.points.size(), 1024), kThreads,
+                               [&](std::size_t, std::size_t begin, std::size_t end) {
+                                 for (std::size_t k = begin; k < end; ++k)
+                                   verdicts[k] = judge_sample(set.requests[k], glm::vec3(set.points[k]), out[k], on_boundary[k]);
+                               });
   std::vector<char> touched(s_.faces.size(), 0);
   std::vector<SplitRequest> chosen;
   std::vector<glm::vec3> start;
@@ -306,42 +318,53 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
   insertion_moves_.clear();
   std::size_t faces = s_.faces.size();
   for (std::size_t k = 0; k < set.points.size(); ++k) {
-    glm::vec3 p(set.points[k]);
-    // Each sample is judged over its own element's time scale: the step that moves the element's
-    // fastest point (the sample or a corner) by kStepFraction of the element's shortest edge.
-    // Its distance from the moved element is its motion relative to the motion the corners
-    // interpolate to at the sample: zero where ψ is linear over the element, so elements split
-    // where the field has detail at their size, and refinement stops once ψ is linear at τ.
-    SplitEffect fx = split_effect(s_, samples_, set.requests[k], p, out[k].w, glm::vec3(0.0f));
-    ElementMotion m = element_motion(set.requests[k], glm::vec3(out[k]), fx.shortest);
-    glm::vec3 d = m.sample;
-    fx = split_effect(s_, samples_, set.requests[k], p, out[k].w, m.sample - m.interpolated);
-    if (fx.offset <= float(o_.tau) * scale) continue;
-    if (std::any_of(fx.faces.begin(), fx.faces.end(), [&](std::uint32_t f) { return touched[f] != 0; })) continue;
-    // The full step overshoots where the new faces' extra area outweighs the weaker material
-    // reached, so the move is backtracked along the step until it lowers E.
-    bool lowers = false;
-    glm::vec3 q;
-    for (int halving = 0; halving < kInsertBacktracks && !lowers; ++halving, d *= 0.5f) {
-      q = p + d;
-      if (on_boundary[k]) q = glm::vec3(b_.closest_point(glm::dvec3(q)));
-      lowers = split_effect(s_, samples_, set.requests[k], q, sample_field(field_, q).x, d).delta_energy < 0.0;
-    }
-    if (!lowers) continue;
-    std::size_t added = set.requests[k].kind == SplitRequest::kFace ? 2 : fx.faces.size();
+    if (!verdicts[k].split) continue;
+    const SplitRequest& r = set.requests[k];
+    // The faces the split replaces: the face, or the faces around the edge.
+    const std::uint32_t* first = r.kind == SplitRequest::kFace ? &r.element : s_.ef_faces.data() + s_.ef_offsets[r.element];
+    const std::uint32_t* last = r.kind == SplitRequest::kFace ? first + 1 : s_.ef_faces.data() + s_.ef_offsets[r.element + 1];
+    if (std::any_of(first, last, [&](std::uint32_t f) { return touched[f] != 0; })) continue;
+    const std::size_t added = r.kind == SplitRequest::kFace ? 2 : std::size_t(last - first);
     if (faces + added > o_.max_triangles) {
       budget_reached_ = true;
       break;
     }
     faces += added;
-    for (std::uint32_t f : fx.faces) touched[f] = 1;
-    chosen.push_back(set.requests[k]);
-    start.push_back(p);
-    insertion_moves_.push_back(q - p);
+    std::for_each(first, last, [&](std::uint32_t f) { touched[f] = 1; });
+    chosen.push_back(r);
+    start.push_back(glm::vec3(set.points[k]));
+    insertion_moves_.push_back(verdicts[k].move);
   }
   apply_splits(s_, tree_, chosen, &start);
   inherit_clearance(s_, tree_, clearance_);
   return chosen.size();
+}
+
+// Each sample is judged over its own element's time scale: the step that moves the element's
+// fastest point (the sample or a corner) by kStepFraction of the element's shortest edge. Its
+// distance from the moved element is its motion relative to the motion the corners interpolate
+// to at the sample: zero where ψ is linear over the element, so elements split where the field
+// has detail at their size, and refinement stops once ψ is linear at τ.
+Refiner::Verdict Refiner::judge_sample(const SplitRequest& r, const glm::vec3& p, const glm::vec4& tested,
+                                       bool on_boundary) const {
+  Verdict v;
+  SplitEffect fx = split_effect(s_, samples_, r, p, tested.w, glm::vec3(0.0f));
+  const ElementMotion m = element_motion(r, glm::vec3(tested), fx.shortest);
+  fx = split_effect(s_, samples_, r, p, tested.w, m.sample - m.interpolated);
+  if (fx.offset <= float(o_.tau) * float(o_.scale)) return v;
+  // The full step overshoots where the new faces' extra area outweighs the weaker material
+  // reached, so the move is backtracked along the step until it lowers E.
+  glm::vec3 d = m.sample;
+  for (int halving = 0; halving < kInsertBacktracks; ++halving, d *= 0.5f) {
+    glm::vec3 q = p + d;
+    if (on_boundary) q = glm::vec3(b_.closest_point(glm::dvec3(q)));
+    if (split_effect(s_, samples_, r, q, sample_field(field_, q).x, d).delta_energy < 0.0) {
+      v.split = true;
+      v.move = q - p;
+      return v;
+    }
+  }
+  return v;
 }
 
 Refiner::ElementMotion Refiner::element_motion(const SplitRequest& r, const glm::vec3& v_sample, float shortest) const {
