@@ -134,7 +134,7 @@ TEST(ParseScene, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(s.refine.tolerance, 1e-5);
   EXPECT_EQ(s.refine.max_iterations, 60);
   EXPECT_EQ(s.refine.max_triangles, 200000);
-  EXPECT_EQ(s.refine.budget_slack, 0.03);
+  EXPECT_EQ(s.refine.budget_slack, 0.05);
   EXPECT_EQ(s.refine.seed, 1u);
   EXPECT_EQ(s.refine.min_angle, 20.0);
   EXPECT_TRUE(s.refine.collisions);
