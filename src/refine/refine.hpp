@@ -37,7 +37,7 @@ struct IterationStats {
   std::size_t collisions_stopped = 0;  ///< vertices held back by the collision constraints
   std::size_t splits = 0, flips = 0;
   double dt = 0.0;
-  double seconds = 0.0;  ///< wall-clock time of the iteration (flow step, splits, flips)
+  double seconds = 0.0;  ///< wall-clock time of the iteration (splits, flips, flow step)
   /// Wall-clock seconds of the iteration's parts, in their order: the splits, the flips, the
   /// evaluation of the velocities after them, and the flow step (its collision constraints
   /// included, and also given alone).
