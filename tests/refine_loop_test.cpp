@@ -65,7 +65,8 @@ struct RefineRun {
   RefineResult result;
 };
 
-RefineRun run_refine(std::uint64_t seed, int iterations, std::size_t max_triangles = 4000, double budget_slack = 0.0) {
+RefineRun run_refine(std::uint64_t seed, int iterations, std::size_t max_triangles = 4000, double budget_slack = 0.0,
+                     double step = 0.0) {
   static const ExteriorSurface b = make_exterior(unit_cube(), "cube");
   static const FieldGrid4 field = wavy_field();
   RefineRun r{sheet(4, 0.5f), {}};
@@ -77,6 +78,7 @@ RefineRun run_refine(std::uint64_t seed, int iterations, std::size_t max_triangl
   o.max_iterations = iterations;
   o.max_triangles = max_triangles;
   o.budget_slack = budget_slack;
+  o.step = step;
   o.seed = seed;
   r.result = refine_surface(r.s, field, b, *backend, o);
   return r;
@@ -95,6 +97,25 @@ TEST(RefineLoop, RefinesKeepsInvariantsAndLowersEnergy) {
     previous = st.energy;
   }
   EXPECT_LT(r.result.iterations.back().energy, 0.95 * r.result.initial_energy);
+}
+
+// With a time step too small to move anything, a flow step cannot pay for splits that raise the
+// energy (ψ at the sample above its corners' interpolation): such an iteration is undone whole,
+// so the energy still never rises, and S and the tree stay consistent.
+TEST(RefineLoop, SplitsTheFlowCannotPayForAreUndone) {
+  const RefineRun r = run_refine(7, 25, 4000, 0.0, 1e-12);
+  ASSERT_EQ(validate(r.s), "");
+  ASSERT_FALSE(r.result.iterations.empty());
+  EXPECT_EQ(r.result.tree.parents.size(), r.s.positions.size());
+  double previous = r.result.initial_energy;
+  bool undone = false;
+  for (const IterationStats& st : r.result.iterations) {
+    EXPECT_LE(st.energy, previous * (1.0 + 1e-12)) << "energy rose";
+    undone = undone || (st.splits == 0 && st.flips == 0);
+    previous = st.energy;
+  }
+  EXPECT_TRUE(undone);  // the run ends in an undone iteration (no move, nothing split)
+  EXPECT_EQ(r.result.stop, RefineResult::Stop::kConverged);
 }
 
 TEST(RefineLoop, BoundaryVerticesStayOnTheExterior) {
