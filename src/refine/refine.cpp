@@ -382,6 +382,8 @@ Refiner::ElementMotion Refiner::element_motion(const SplitRequest& r, const glm:
   return m;
 }
 
+// conform_boundary's splits move each new vertex from its chord's midpoint onto B: that motion is
+// checked like a flow step's, on a preview of S after the splits, and held-back splits dropped.
 void Refiner::drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::vector<glm::vec3>& start,
                                         std::vector<glm::vec3>& target) const {
   if (chosen.empty()) return;
