@@ -16,10 +16,12 @@ using Clock = std::chrono::steady_clock;
 
 std::uint64_t morton(glm::vec3 p) {  // p in [-1.5, 1.5]³
   const glm::uvec3 q = glm::uvec3(glm::clamp((p + 1.5f) / 3.0f, 0.0f, 1.0f) * float((1 << 21) - 1));
-  return morton_spread3(q.x) | morton_spread3(q.y) << 1 | morton_spread3(q.z) << 2;
+  return morton_interleave(q.x, q.y, q.z);
 }
 
-/// The permutation sorting `points` by Morton code (ties by index: deterministic).
+/// The permutation sorting `points` by Morton code on the fixed cube above (ties by index:
+/// deterministic). Not geom's morton_order, which fits the grid to the points' bounds: the bench
+/// surfaces keep one order whatever their extent.
 std::vector<std::uint32_t> morton_order(const std::vector<glm::vec3>& points) {
   std::vector<std::uint64_t> code(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) code[i] = morton(points[i]);

@@ -49,12 +49,10 @@ std::vector<Keyed> morton_sorted(const std::vector<Aabb>& boxes) {
   const dvec3 ext = bounds.hi - bounds.lo;
   const double side = std::max({ext.x, ext.y, ext.z});
   const double scale = side > 0.0 ? double((1u << 21) - 1) / side : 0.0;
-  auto spread = [](double t) { return morton_spread3(std::uint64_t(t)); };
   std::vector<Keyed> items(boxes.size());
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     const dvec3 t = glm::clamp(((boxes[i].lo + boxes[i].hi) - bounds.lo) * scale, 0.0, double((1u << 21) - 1));
-    items[i] = {spread(t.x) << 2 | spread(t.y) << 1 | spread(t.z),
-                std::uint32_t(i)};
+    items[i] = {morton_interleave(std::uint64_t(t.z), std::uint64_t(t.y), std::uint64_t(t.x)), std::uint32_t(i)};
   }
   radix_sort(items);  // stable: ties stay in id order
   return items;

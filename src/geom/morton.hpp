@@ -22,12 +22,17 @@ inline std::uint64_t morton_spread3(std::uint64_t v) {
   return v;
 }
 
+/// The 63-bit code interleaving the low 21 bits of three grid coordinates, `lowest` in bit 0 of
+/// each triple, `highest` in bit 2.
+inline std::uint64_t morton_interleave(std::uint64_t lowest, std::uint64_t middle, std::uint64_t highest) {
+  return morton_spread3(lowest) | morton_spread3(middle) << 1 | morton_spread3(highest) << 2;
+}
+
 /// The 63-bit Morton code of p on a 2^21 grid over [lo, hi] (points outside are clamped).
 inline std::uint64_t morton_code(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
   const glm::dvec3 size = glm::max(hi - lo, glm::dvec3(1e-300));
   const glm::dvec3 t = glm::clamp((p - lo) / size, 0.0, 1.0) * double((1 << 21) - 1);
-  return morton_spread3(std::uint64_t(t.x)) | morton_spread3(std::uint64_t(t.y)) << 1 |
-         morton_spread3(std::uint64_t(t.z)) << 2;
+  return morton_interleave(std::uint64_t(t.x), std::uint64_t(t.y), std::uint64_t(t.z));
 }
 
 /// The permutation that sorts `points` by Morton code over their bounding box (ties by index:
