@@ -188,8 +188,8 @@ bool Refiner::inserted_step(std::size_t v, float shortest, glm::vec3& d) const {
   return true;
 }
 
-// Takes the step when it brings E to at most `ceiling` (backtracking as above); false when no
-// step does, S then unchanged.
+// Takes the step when it brings E to at most `ceiling` (backtracking as above) and sets st.energy
+// to the new E; false when no step does, S then unchanged.
 // \pre samples_ and velocity_ are those of the current positions (run() evaluates after every
 // edit; each evaluation is a kernel call, with a fixed cost on Vulkan).
 bool Refiner::flow_step(double ceiling, IterationStats& st) {
@@ -223,7 +223,8 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
     s_.positions = x1;
     std::vector<glm::vec4> trial(x1.size()), vel(x1.size());
     be_.vertex_velocities(view(), trial, vel);
-    if (surface_energy(view(), trial) <= e0) {
+    if (const double e1 = surface_energy(view(), trial); e1 <= e0) {
+      st.energy = e1;
       st.dt = dt * fraction;
       for (std::size_t i = 0; i < x0.size(); ++i)
         st.max_displacement = std::max<double>(st.max_displacement, glm::distance(glm::vec3(x0[i]), glm::vec3(x1[i])));
@@ -474,16 +475,18 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   if (st.splits + st.flips > 0) evaluate();
   st.phases.evaluate = seconds_since(t1);
   t1 = Clock::now();
-  const bool moved = flow_step(std::min(e_before, energy()), st);
+  const double e_now = energy();
+  const bool moved = flow_step(std::min(e_before, e_now), st);
   st.phases.flow = seconds_since(t1);
-  if (!moved && energy() > e_before) {
+  if (!moved) st.energy = e_now;
+  if (!moved && e_now > e_before) {
     s_ = s_before;
     samples_ = samples_before, velocity_ = velocity_before;
     tree_.parents.resize(s_.positions.size()), tree_.weights.resize(s_.positions.size());
     clearance_.resize(s_.positions.size());
     st.splits = st.flips = 0;
+    st.energy = e_before;  // S is the one e_before was measured on
   }
-  st.energy = energy();
   st.triangles = s_.faces.size();
   st.seconds = seconds_since(t0);
   return st;
