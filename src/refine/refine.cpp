@@ -21,6 +21,11 @@ namespace {
 // are clipped to kStepFraction · ℓ_i (a normalised-gradient step). If the energy rises anyway
 // the step is halved (at most kBacktracks times) and, failing that, not taken.
 constexpr float kStepFraction = 0.3f;
+// A vertex whose move is under this fraction of its shortest edge stays put (it has settled).
+// On the bunny, 96% of the moving vertices carry 5% of a late step's squared motion (median move
+// 0.27% of the shortest edge: stiff, nearly flat fans); holding those back leaves E within 0.1%
+// and ζ unchanged, and keeps them out of the step's collision tests (resting pairs are skipped).
+constexpr float kSettleFraction = 0.01f;
 constexpr int kBacktracks = 6;
 constexpr double kStiffFraction = 0.5;
 constexpr int kInsertBacktracks = 10;
@@ -206,6 +211,7 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
     inserted_step(i, shortest[i], d);
     float len = glm::length(d), cap = kStepFraction * shortest[i];
     if (len > cap) d *= cap / len;
+    if (len < kSettleFraction * shortest[i]) d = glm::vec3(0.0f);
     full[i] = glm::vec4(glm::vec3(x0[i]) + d, 1.0f);
   }
   apply_boundary_constraint(s_, b_, x0, full);

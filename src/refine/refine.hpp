@@ -23,7 +23,7 @@ struct RefineOptions {
   std::size_t max_triangles = 200000;  ///< stop once a split would exceed this many faces (the chord splits after the loop may add a few)
   /// Stop also once fewer than budget_slack·max_triangles faces are left to the budget: another
   /// iteration would add that little at the cost of an iteration at full size.
-  double budget_slack = 0.05;
+  double budget_slack = 0.1;
   std::uint64_t seed = 1;
   double min_angle = 20.0;      ///< degrees: flip edges of faces with a smaller angle
   bool collisions = true;       ///< continuous collision detection of S against itself and B

@@ -67,7 +67,7 @@ struct RefineSpec {
   double tolerance = 1e-5;      ///< stop when the largest displacement < tolerance · diagonal
   int max_iterations = 60;      ///< in [0, 100000]
   std::int64_t max_triangles = 200000;  ///< in [1, 50000000]
-  double budget_slack = 0.05;           ///< in [0, 1]
+  double budget_slack = 0.1;            ///< in [0, 1]
   std::uint64_t seed = 1;       ///< seed of the random samples
   double min_angle = 20.0;      ///< degrees, in [0, 60): flip edges of triangles with a smaller angle
   bool collisions = true;       ///< continuous collision handling
