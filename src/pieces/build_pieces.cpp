@@ -24,6 +24,10 @@ constexpr double kPokeTolerance = 1e-6;
 constexpr double kMaxPush = 1.0;
 constexpr double kPushFactor = 1.25;
 constexpr std::size_t kMaxPushRounds = 8;
+// A push that did not take a vertex's poke at least this much shallower will not: the poke is
+// not this vertex's to fix by moving (on the bunny such pokes grew with every push, for 6 rounds
+// of rebuilds until kMaxPushRounds), so the vertex is contracted at once instead.
+constexpr double kFutilePush = 0.75;
 // A fracture triangle crossing a B triangle pushes its S vertices off B this fraction of their
 // shortest edge per attempt; one crossing another fracture triangle relaxes its S vertices off
 // B this much further toward their neighbours' centroid (up to all the way).
@@ -127,9 +131,11 @@ struct Retries {
   bool next(const PokingOut& poking, std::string& why) {
     for (const auto& [v, p] : poking.vertices) {
       Push& push = pushed[v];
+      const bool futile = push.distance > 0.0 && p.depth >= kFutilePush * push.last_depth;
       push.distance += kPushFactor * p.depth;
       push.direction = p.direction;
-      if (push.distance <= p.limit && push_rounds < kMaxPushRounds) continue;
+      push.last_depth = p.depth;
+      if (!futile && push.distance <= p.limit && push_rounds < kMaxPushRounds) continue;
       // Pushed as far as it may go: the vertex is contracted into its nearest neighbour instead
       // (a sliver of S sticking out), or, when that was tried, into the next nearest.
       const auto untried = std::find_if(p.neighbours.begin(), p.neighbours.end(), [&](std::uint32_t w) {

@@ -236,6 +236,7 @@ FractureSurface repair_boundary(FractureSurface s, const ExteriorMesh& m, double
 struct Push {
   double distance = 0.0;
   glm::dvec3 direction{0.0};
+  double last_depth = 0.0;  // the poke depth that decided the last push (build_pieces' retries)
 };
 
 /// The S vertices off B (ids below s_vertex_count with on_b unset) of the triangles with a
