@@ -2,6 +2,7 @@
 // exactly on B's faces, edges and vertices, boundary edges along B edges), a T-junction and a
 // cross of pieces, a thin box cut across, and an icosphere cut by a wavy sheet whose boundary
 // was projected onto it in float, as the refiner does.
+#include <algorithm>
 #include <gtest/gtest.h>
 
 #include "pieces_test_support.hpp"
@@ -306,6 +307,37 @@ TEST(PiecesRepair, FlapLyingOnExteriorIsLeftOut) {
   const PieceSet set = build_pieces(s, b);
   EXPECT_EQ(set.flaps_removed, 1u);
   EXPECT_EQ(count_inside(set.pieces[0], 1), sheet.faces.size() + 4);  // as PlanarSheetInTwelveTriangleBox
+  expect_valid_pieces(set, b);
+}
+
+// Flaps lying on B are found before the first build: two on opposite sides of the box cost no
+// rebuild.
+TEST(PiecesRepair, FlapsFarApartAreLeftOutWithoutRebuild) {
+  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
+  const FractureSurface sheet = example_sheet(4);
+  std::vector<glm::vec4> positions = sheet.positions;
+  std::vector<glm::uvec4> faces = sheet.faces;
+  std::vector<glm::ivec2> pieces = sheet.face_pieces;
+  auto vertex_at = [&](glm::vec4 p) {
+    return std::uint32_t(std::find(positions.begin(), positions.end(), p) - positions.begin());
+  };
+  // Flaps folded up onto the box faces y = 0 and y = 3, each continuing the sheet's winding.
+  const std::uint32_t a1 = vertex_at({1, 0, 0, 1}), a2 = vertex_at({2, 0, 0, 1});
+  const std::uint32_t c1 = vertex_at({1, 3, 0, 1}), c2 = vertex_at({2, 3, 0, 1});
+  ASSERT_LT(std::max({a1, a2, c1, c2}), positions.size());
+  const auto tip = std::uint32_t(positions.size());
+  positions.emplace_back(1.5f, 0.0f, 0.5f, 1.0f);
+  positions.emplace_back(1.5f, 3.0f, 0.5f, 1.0f);
+  faces.emplace_back(a2, a1, tip, 0);
+  faces.emplace_back(c1, c2, tip + 1, 0);
+  pieces.emplace_back(1, 0);
+  pieces.emplace_back(1, 0);
+  const FractureSurface s = make_fracture_surface(positions, faces, pieces, 2);
+  ASSERT_EQ(validate(s), "");
+  const PieceSet set = build_pieces(s, b);
+  EXPECT_EQ(set.flaps_removed, 2u);
+  EXPECT_EQ(set.attempts, 1u);
+  EXPECT_EQ(count_inside(set.pieces[0], 1), sheet.faces.size() + 4);
   expect_valid_pieces(set, b);
 }
 

@@ -51,15 +51,19 @@ FractureSurface checked(const FractureSurface& s) {
   return copy;
 }
 
-// A face of S whose fracture polygon cannot be triangulated. build_pieces starts again with the
-// face left out when it has two or three boundary edges (a flap: all its corners lie on B), or
-// with its boundary edge traced along the face's normal when it has one.
-struct UntriangulatedFace : RunError {
-  UntriangulatedFace(const std::string& what, std::uint32_t input_face, bool is_flap, glm::uvec2 rim_edge)
-      : RunError(what), face(input_face), flap(is_flap), boundary_edge(rim_edge) {}
-  std::uint32_t face;
-  bool flap;
-  glm::uvec2 boundary_edge;  // S vertices of its boundary edge (one boundary side)
+// The faces of S whose fracture polygons cannot be triangulated (all of them in one build, so
+// that one retry deals with them all). build_pieces starts again with each face left out when it
+// has two or three boundary edges (a flap: all its corners lie on B), or with its boundary edge
+// traced along the face's normal when it has one.
+struct UntriangulatedFaces : RunError {
+  struct Face {
+    std::string what;
+    std::uint32_t face;
+    bool flap;
+    glm::uvec2 boundary_edge;  // S vertices of its boundary edge (one boundary side)
+  };
+  explicit UntriangulatedFaces(std::vector<Face> all) : RunError(all.front().what), faces(std::move(all)) {}
+  std::vector<Face> faces;
 };
 
 // Fracture triangles poking out of B: build_pieces starts again with their S vertices off B
@@ -100,8 +104,18 @@ struct Retries {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> contractions;  // S edges (gone, keep)
   std::size_t push_rounds = 0, attempts = 0;
 
-  // After a face could not be triangulated; false when nothing is left to try for it.
-  bool next(const UntriangulatedFace& failed) {
+  // After faces could not be triangulated; false (why: the face's message) when nothing is left
+  // to try for one of them.
+  bool next(const UntriangulatedFaces& failed, std::string& why) {
+    for (const auto& face : failed.faces)
+      if (!next(face)) {
+        why = face.what;
+        return false;
+      }
+    return true;
+  }
+
+  bool next(const UntriangulatedFaces::Face& failed) {
     if (failed.flap) {
       if (std::count(left_out.begin(), left_out.end(), failed.face)) return false;
       left_out.push_back(failed.face);
@@ -459,6 +473,7 @@ class PieceBuilder {
 
   void remesh_fracture_faces() {
     s_triangles_.resize(s_.faces.size());
+    std::vector<UntriangulatedFaces::Face> failed;
     for (std::uint32_t f = 0; f < s_.faces.size(); ++f) {
       std::vector<std::uint32_t> polygon;
       std::vector<unsigned> mask;
@@ -478,9 +493,9 @@ class PieceBuilder {
         const std::string what = "fracture surface face " + std::to_string(repair_.face_origin[f]) + " near " +
                                  format_point(xyz[0]) + ": cannot insert the traced boundary points: " + err.what();
         const int sides = boundary_sides(f);
-        if (sides == 1 || (sides >= 2 && options_.remove_flaps))
-          throw UntriangulatedFace(what, repair_.face_origin[f], sides >= 2, boundary_edge_of(f));
-        throw RunError(what);
+        if (sides != 1 && !(sides >= 2 && options_.remove_flaps)) throw RunError(what);
+        failed.push_back({what, repair_.face_origin[f], sides >= 2, boundary_edge_of(f)});
+        continue;
       }
       if (result.centre_added) {
         polygon.push_back(new_vertex(result.centre, kFaceCentre, nullptr));
@@ -488,6 +503,7 @@ class PieceBuilder {
       }
       for (const Tri& r : result.triangles) s_triangles_[f].push_back({polygon[r[0]], polygon[r[1]], polygon[r[2]]});
     }
+    if (!failed.empty()) throw UntriangulatedFaces(std::move(failed));
   }
 
   // S crosses B where a fracture triangle with a corner on B pokes out of it (S hugging B, or
@@ -702,8 +718,9 @@ PieceSet build_pieces(const FractureSurface& s, const MeshSoup& exterior, const 
     } catch (const Folded& folded) {
       std::string why;
       if (!retries.next(folded, why) || retries.attempts >= kMaxAttempts) throw RunError(why.empty() ? "too many attempts" : why);
-    } catch (const UntriangulatedFace& failed) {
-      if (!retries.next(failed) || retries.attempts >= kMaxAttempts) throw RunError(failed.what());
+    } catch (const UntriangulatedFaces& failed) {
+      std::string why = failed.what();
+      if (!retries.next(failed, why) || retries.attempts >= kMaxAttempts) throw RunError(why);
     }
   }
 }
