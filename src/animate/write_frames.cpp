@@ -2,7 +2,9 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <exception>
 #include <functional>
+#include <thread>
 
 #include "animate/animate.hpp"
 #include "animate/animate_internal.hpp"
@@ -26,33 +28,55 @@ void append_number(std::string& out, double value) {
   out.append(buffer, result.ptr);
 }
 
-std::string frame_text(const animate_detail::LocalFaces& f, const PieceLayout& layout, const std::vector<glm::dvec3>& x, std::size_t frame,
-                       std::size_t frame_count, double fps) {
-  std::string out = "# fracref frame " + std::to_string(frame) + " of " + std::to_string(frame_count) + ", fps ";
-  append_number(out, fps);
-  out += "\nmtllib frames.mtl\n";
+void append_number(std::string& out, std::uint32_t value) {
+  char buffer[16];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  out.append(buffer, result.ptr);
+}
+
+// Per piece, its "o" line and its faces' lines: the topology is the same in every frame, so
+// they are formatted once and only the vertex lines are formatted per frame.
+struct FrameTemplate {
+  std::vector<std::string> heads, faces;
+};
+
+FrameTemplate frame_template(const animate_detail::LocalFaces& f, const PieceLayout& layout) {
+  FrameTemplate out;
   for (std::size_t p = 0; p < f.faces.size(); ++p) {
-    out += "o " + numbered("piece_%03zu", p) + "\n";
-    for (std::uint32_t s = layout.offsets[p]; s < layout.offsets[p + 1]; ++s) {
-      out += "v ";
-      append_number(out, x[s].x);
-      out += ' ';
-      append_number(out, x[s].y);
-      out += ' ';
-      append_number(out, x[s].z);
-      out += '\n';
-    }
+    out.heads.push_back("o " + numbered("piece_%03zu", p) + "\n");
+    std::string& text = out.faces.emplace_back();
     int material = -1;
+    const std::uint32_t base = layout.offsets[p] + 1;  // OBJ ids are 1-based and global to the file
     for (std::size_t t = 0; t < f.faces[p].size(); ++t) {
       if (f.inside[p][t] != material) {
         material = f.inside[p][t];
-        out += material ? "usemtl inside\n" : "usemtl outside\n";
+        text += material ? "usemtl inside\n" : "usemtl outside\n";
       }
       const Tri& tri = f.faces[p][t];
-      const std::uint32_t base = layout.offsets[p] + 1;  // OBJ ids are 1-based and global to the file
-      out += "f " + std::to_string(tri[0] + base) + ' ' + std::to_string(tri[1] + base) + ' ' +
-             std::to_string(tri[2] + base) + '\n';
+      text += 'f';
+      for (int k = 0; k < 3; ++k) text += ' ', append_number(text, tri[k] + base);
+      text += '\n';
     }
+  }
+  return out;
+}
+
+std::string frame_text(const FrameTemplate& tmpl, const PieceLayout& layout, const std::vector<glm::dvec3>& x,
+                       std::size_t frame, std::size_t frame_count, double fps) {
+  std::string out = "# fracref frame " + std::to_string(frame) + " of " + std::to_string(frame_count) + ", fps ";
+  append_number(out, fps);
+  out += "\nmtllib frames.mtl\n";
+  std::size_t size = out.size() + 64 * x.size();
+  for (std::size_t p = 0; p < tmpl.faces.size(); ++p) size += tmpl.heads[p].size() + tmpl.faces[p].size();
+  out.reserve(size);
+  for (std::size_t p = 0; p < tmpl.faces.size(); ++p) {
+    out += tmpl.heads[p];
+    for (std::uint32_t s = layout.offsets[p]; s < layout.offsets[p + 1]; ++s) {
+      out += 'v';
+      for (int k = 0; k < 3; ++k) out += ' ', append_number(out, x[s][k]);
+      out += '\n';
+    }
+    out += tmpl.faces[p];
   }
   return out;
 }
@@ -70,12 +94,39 @@ void write_all(const PieceSet& pieces, const PieceLayout& layout, std::size_t fr
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw RunError(dir.string() + ": cannot create the folder: " + ec.message());
-  for (std::size_t t = 0; t < frame_count; ++t) {
+  const FrameTemplate tmpl = frame_template(faces, layout);
+  auto text_of = [&](std::size_t t) {
     const std::vector<glm::dvec3> x = frame(t);
     if (x.size() != layout.slot_count())
       throw RunError("write_frames: frame " + std::to_string(t) + " has " + std::to_string(x.size()) + " positions, expected " +
                      std::to_string(layout.slot_count()));
-    write_file_atomic(dir / numbered("frame_%04zu.obj", t), frame_text(faces, layout, x, t, frame_count, fps));
+    return frame_text(tmpl, layout, x, t, frame_count, fps);
+  };
+  // Two frames at a time, the second on a helper thread: computing and formatting a frame costs
+  // more than writing it.
+  for (std::size_t t = 0; t < frame_count; t += 2) {
+    std::string second;
+    std::exception_ptr failed;
+    std::thread helper;
+    if (t + 1 < frame_count)
+      helper = std::thread([&] {
+        try {
+          second = text_of(t + 1);
+        } catch (...) {
+          failed = std::current_exception();
+        }
+      });
+    std::string first;
+    try {
+      first = text_of(t);
+    } catch (...) {
+      if (helper.joinable()) helper.join();
+      throw;
+    }
+    if (helper.joinable()) helper.join();
+    if (failed) std::rethrow_exception(failed);
+    write_file_atomic(dir / numbered("frame_%04zu.obj", t), first);
+    if (t + 1 < frame_count) write_file_atomic(dir / numbered("frame_%04zu.obj", t + 1), second);
   }
   write_file_atomic(dir / "frames.mtl", material_text());
 }
