@@ -78,6 +78,15 @@ struct PokingOut : RunError {
   };
   explicit PokingOut(std::map<std::uint32_t, Vertex> v) : RunError("poking out"), vertices(std::move(v)) {}
   std::map<std::uint32_t, Vertex> vertices;
+
+  // The deepest poke, for a message.
+  std::string describe() const {
+    const auto deepest = std::max_element(vertices.begin(), vertices.end(),
+                                          [](const auto& a, const auto& b) { return a.second.depth < b.second.depth; });
+    return "the faces of fracture surface vertex " + std::to_string(deepest->first) + " at " +
+           format_point(deepest->second.at) + " poke out of the exterior by " + std::to_string(deepest->second.depth) +
+           (vertices.size() > 1 ? " (and " + std::to_string(vertices.size() - 1) + " more vertices')" : "");
+  }
 };
 
 // Fracture triangles crossing each other once the rim's traces bent them toward B (a pleat of
@@ -697,6 +706,11 @@ class PieceBuilder {
   };
 };
 
+RunError gave_up(const Retries& retries, const std::string& last) {
+  return RunError("the pieces cannot be made: still a problem after " + std::to_string(retries.attempts + 1) +
+                  " attempts to repair the fracture surface's rim: " + last);
+}
+
 }  // namespace
 
 PieceSet build_pieces(const FractureSurface& s, const MeshSoup& exterior, const PieceOptions& options) {
@@ -712,15 +726,19 @@ PieceSet build_pieces(const FractureSurface& s, const MeshSoup& exterior, const 
       return out;
     } catch (const PokingOut& poking) {
       std::string why;
-      if (!retries.next(poking, why) || retries.attempts >= kMaxAttempts) throw RunError(why.empty() ? "too many attempts" : why);
+      if (!retries.next(poking, why)) throw RunError(why);
+      if (retries.attempts >= kMaxAttempts) throw gave_up(retries, poking.describe());
     } catch (const TracesCross& crossed) {
-      if (!retries.next(crossed, double_positions(input)) || retries.attempts >= kMaxAttempts) throw RunError(crossed.what());
+      if (!retries.next(crossed, double_positions(input))) throw RunError(crossed.what());
+      if (retries.attempts >= kMaxAttempts) throw gave_up(retries, crossed.what());
     } catch (const Folded& folded) {
       std::string why;
-      if (!retries.next(folded, why) || retries.attempts >= kMaxAttempts) throw RunError(why.empty() ? "too many attempts" : why);
+      if (!retries.next(folded, why)) throw RunError(why);
+      if (retries.attempts >= kMaxAttempts) throw gave_up(retries, folded.what());
     } catch (const UntriangulatedFaces& failed) {
       std::string why = failed.what();
-      if (!retries.next(failed, why) || retries.attempts >= kMaxAttempts) throw RunError(why);
+      if (!retries.next(failed, why)) throw RunError(why);
+      if (retries.attempts >= kMaxAttempts) throw gave_up(retries, failed.what());
     }
   }
 }
