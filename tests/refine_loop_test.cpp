@@ -66,7 +66,7 @@ struct RefineRun {
 };
 
 RefineRun run_refine(std::uint64_t seed, int iterations, std::size_t max_triangles = 4000, double budget_slack = 0.0,
-                     double step = 0.0) {
+                     double step = 0.0, bool fill_budget = true) {
   static const ExteriorSurface b = make_exterior(unit_cube(), "cube");
   static const FieldGrid4 field = wavy_field();
   RefineRun r{sheet(4, 0.5f), {}};
@@ -79,6 +79,7 @@ RefineRun run_refine(std::uint64_t seed, int iterations, std::size_t max_triangl
   o.max_triangles = max_triangles;
   o.budget_slack = budget_slack;
   o.step = step;
+  o.fill_budget = fill_budget;
   o.seed = seed;
   r.result = refine_surface(r.s, field, b, *backend, o);
   return r;
@@ -154,8 +155,8 @@ TEST(RefineLoop, IterationCapStop) {
 
 // The loop stops in the iteration where a split is first refused for the budget, at or under it
 // (the chord splits after the loop may add a few faces: they keep the pieces stage sound). Up to
-// that iteration a budgeted run is the unbudgeted one, so it must end in the first iteration
-// where the unbudgeted run goes past the budget.
+// that iteration a budgeted run is the unbudgeted one (without fill_budget, which splits below
+// tau for the budget), so it must end in the first iteration where the unbudgeted run goes past it.
 TEST(RefineLoop, BudgetStopsTheLoopAtTheFirstRefusedSplit) {
   const RefineRun free_run = run_refine(9, 25);
   for (std::size_t budget : {55u, 61u, 63u}) {
@@ -164,7 +165,7 @@ TEST(RefineLoop, BudgetStopsTheLoopAtTheFirstRefusedSplit) {
     while (expected < free_run.result.iterations.size() && free_run.result.iterations[expected].triangles <= budget)
       ++expected;
     ASSERT_LT(expected, free_run.result.iterations.size());  // the free run goes past the budget
-    RefineRun r = run_refine(9, 25, budget);
+    RefineRun r = run_refine(9, 25, budget, 0.0, 0.0, false);
     ASSERT_EQ(validate(r.s), "");
     EXPECT_EQ(r.result.stop, RefineResult::Stop::kTriangleBudget);
     EXPECT_EQ(r.result.iterations.size(), expected + 1);
@@ -178,18 +179,40 @@ TEST(RefineLoop, BudgetStopsTheLoopAtTheFirstRefusedSplit) {
 TEST(RefineLoop, BudgetSlackStopsTheLoopNearTheBudget) {
   const std::size_t budget = 63;
   const double slack = 0.25;
-  const RefineRun strict = run_refine(9, 25, budget);
+  const RefineRun strict = run_refine(9, 25, budget, 0.0, 0.0, false);
   std::size_t expected = 0;
   while (expected < strict.result.iterations.size() &&
          double(budget) - double(strict.result.iterations[expected].triangles) >= slack * double(budget))
     ++expected;
   ASSERT_LT(expected + 1, strict.result.iterations.size());  // the slack must cut the strict run short
-  const RefineRun r = run_refine(9, 25, budget, slack);
+  const RefineRun r = run_refine(9, 25, budget, slack, 0.0, false);
   ASSERT_EQ(validate(r.s), "");
   EXPECT_EQ(r.result.stop, RefineResult::Stop::kTriangleBudget);
   ASSERT_EQ(r.result.iterations.size(), expected + 1);
   for (std::size_t k = 0; k <= expected; ++k)
     EXPECT_EQ(r.result.iterations[k].triangles, strict.result.iterations[k].triangles) << "iteration " << k;
+}
+
+// fill_budget fills the budget in the iteration after which the next would run into it: never
+// more iterations than without it, fewer for some budgets, the same invariants, the budget kept.
+TEST(RefineLoop, BudgetFillNeedsNoMoreIterations) {
+  std::size_t fewer = 0;
+  for (std::size_t budget : {60u, 80u, 100u, 120u, 150u, 180u, 200u, 250u}) {
+    SCOPED_TRACE("budget " + std::to_string(budget));
+    const RefineRun plain = run_refine(9, 25, budget, 0.1, 0.0, false);
+    const RefineRun filled = run_refine(9, 25, budget, 0.1, 0.0, true);
+    ASSERT_EQ(validate(filled.s), "");
+    EXPECT_EQ(filled.result.stop, RefineResult::Stop::kTriangleBudget);
+    EXPECT_LE(filled.result.iterations.back().triangles, budget);
+    double previous = filled.result.initial_energy;
+    for (const IterationStats& st : filled.result.iterations) {
+      EXPECT_LE(st.energy, previous * (1.0 + 1e-9)) << "energy rose";
+      previous = st.energy;
+    }
+    EXPECT_LE(filled.result.iterations.size(), plain.result.iterations.size());
+    fewer += filled.result.iterations.size() < plain.result.iterations.size();
+  }
+  EXPECT_GT(fewer, 0u);
 }
 
 TEST(RefineLoop, SplitsRecordTreeWeightsThatReproduceTheCreationPosition) {

@@ -107,6 +107,7 @@ RefineOptions refine_options(const Scene& scene, const JobOptions& o, double dia
   r.max_iterations = scene.refine.max_iterations;
   r.max_triangles = std::size_t(scene.refine.max_triangles);
   r.budget_slack = scene.refine.budget_slack;
+  r.fill_budget = scene.refine.fill_budget;
   r.seed = o.seed.value_or(scene.refine.seed);
   r.min_angle = scene.refine.min_angle;
   r.collisions = scene.refine.collisions;

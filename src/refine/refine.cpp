@@ -29,6 +29,7 @@ constexpr float kSettleFraction = 0.01f;
 constexpr int kBacktracks = 6;
 constexpr double kStiffFraction = 0.5;
 constexpr int kInsertBacktracks = 10;
+constexpr float kFillFraction = 0.25f;      // of tau: the smallest offset fill_budget splits
 constexpr double kConformTolerance = 2e-4;  // of the diagonal
 constexpr int kConformPasses = 8;
 // Passes of split_rim_chords after the loop (a pass splits each face at most once).
@@ -67,9 +68,21 @@ class Refiner {
   };
   struct Verdict {
     bool split = false;
+    float offset = 0.0f;   // how far the judging step takes the sample off its element
     glm::vec3 move{0.0f};  // where the judging step takes the sample, from it
   };
-  Verdict judge_sample(const SplitRequest& r, const glm::vec3& p, const glm::vec4& tested, bool on_boundary) const;
+  Verdict judge_sample(const SplitRequest& r, const glm::vec3& p, const glm::vec4& tested, bool on_boundary,
+                       float threshold) const;
+  // The splits chosen so far in an iteration (faces touched, within the budget).
+  struct SplitChoice {
+    std::vector<char> touched;
+    std::vector<SplitRequest> chosen;
+    std::vector<glm::vec3> start;
+    std::size_t faces = 0;
+    bool add(const FractureSurface& s, const SplitRequest& r, std::size_t max_faces, bool& over_budget);
+  };
+  void fill_budget(const SampleSet& set, const std::vector<glm::vec4>& tested, const std::vector<char>& on_boundary,
+                   std::vector<Verdict>& verdicts, SplitChoice& choice);
   ElementMotion element_motion(const SplitRequest& r, const glm::vec3& v_sample, float shortest) const;
   void drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::vector<glm::vec3>& start,
                                  std::vector<glm::vec3>& target) const;
@@ -313,38 +326,75 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
   be_.sample_tests(s_.positions, samples_, SampleView{set.points, set.fan_offsets, set.fan_pairs}, out);
   // Verdicts side by side, then the splits in sample order: at most one per face, within budget.
   std::vector<Verdict> verdicts(set.points.size());
+  const float tau = float(o_.tau) * scale;
   geom_detail::parallel_chunks(set.points.size(), geom_detail::chunk_count(set.points.size(), 1024), kThreads,
                                [&](std::size_t, std::size_t begin, std::size_t end) {
                                  for (std::size_t k = begin; k < end; ++k)
-                                   verdicts[k] = judge_sample(set.requests[k], glm::vec3(set.points[k]), out[k], on_boundary[k]);
+                                   verdicts[k] = judge_sample(set.requests[k], glm::vec3(set.points[k]), out[k], on_boundary[k], tau);
                                });
-  std::vector<char> touched(s_.faces.size(), 0);
-  std::vector<SplitRequest> chosen;
-  std::vector<glm::vec3> start;
+  SplitChoice choice;
+  choice.touched.assign(s_.faces.size(), 0);
+  choice.faces = s_.faces.size();
   first_inserted_ = s_.positions.size();
   insertion_moves_.clear();
-  std::size_t faces = s_.faces.size();
-  for (std::size_t k = 0; k < set.points.size(); ++k) {
-    if (!verdicts[k].split) continue;
-    const SplitRequest& r = set.requests[k];
-    // The faces the split replaces: the face, or the faces around the edge.
-    const std::uint32_t* first = r.kind == SplitRequest::kFace ? &r.element : s_.ef_faces.data() + s_.ef_offsets[r.element];
-    const std::uint32_t* last = r.kind == SplitRequest::kFace ? first + 1 : s_.ef_faces.data() + s_.ef_offsets[r.element + 1];
-    if (std::any_of(first, last, [&](std::uint32_t f) { return touched[f] != 0; })) continue;
-    const std::size_t added = r.kind == SplitRequest::kFace ? 2 : std::size_t(last - first);
-    if (faces + added > o_.max_triangles) {
-      budget_reached_ = true;
-      break;
-    }
-    faces += added;
-    std::for_each(first, last, [&](std::uint32_t f) { touched[f] = 1; });
-    chosen.push_back(r);
-    start.push_back(glm::vec3(set.points[k]));
+  for (std::size_t k = 0; k < set.points.size() && !budget_reached_; ++k) {
+    if (!verdicts[k].split || !choice.add(s_, set.requests[k], o_.max_triangles, budget_reached_)) continue;
+    choice.start.push_back(glm::vec3(set.points[k]));
     insertion_moves_.push_back(verdicts[k].move);
   }
+  if (o_.fill_budget && !budget_reached_) fill_budget(set, out, on_boundary, verdicts, choice);
+  std::vector<SplitRequest>& chosen = choice.chosen;
+  std::vector<glm::vec3>& start = choice.start;
   apply_splits(s_, tree_, chosen, &start);
   inherit_clearance(s_, tree_, clearance_);
   return chosen.size();
+}
+
+bool Refiner::SplitChoice::add(const FractureSurface& s, const SplitRequest& r, std::size_t max_faces, bool& over_budget) {
+  // The faces the split replaces: the face, or the faces around the edge.
+  const std::uint32_t* first = r.kind == SplitRequest::kFace ? &r.element : s.ef_faces.data() + s.ef_offsets[r.element];
+  const std::uint32_t* last = r.kind == SplitRequest::kFace ? first + 1 : s.ef_faces.data() + s.ef_offsets[r.element + 1];
+  if (std::any_of(first, last, [&](std::uint32_t f) { return touched[f] != 0; })) return false;
+  const std::size_t added = r.kind == SplitRequest::kFace ? 2 : std::size_t(last - first);
+  if (faces + added > max_faces) {
+    over_budget = true;
+    return false;
+  }
+  faces += added;
+  std::for_each(first, last, [&](std::uint32_t f) { touched[f] = 1; });
+  chosen.push_back(r);
+  return true;
+}
+
+// When the next iteration, growing S as this one does, would run into the budget, it would cost
+// a pass over all of S for what is left of the budget: that room is filled now instead, with the
+// samples below τ (down to kFillFraction τ) that would move farthest, largest offset first. On
+// the bunny this spares the last and costliest of its iterations.
+void Refiner::fill_budget(const SampleSet& set, const std::vector<glm::vec4>& tested,
+                          const std::vector<char>& on_boundary, std::vector<Verdict>& verdicts, SplitChoice& choice) {
+  const double before = double(s_.faces.size()), after = double(choice.faces);
+  if (!(after > before) || after * (after / before) < double(o_.max_triangles)) return;
+  const float tau = float(o_.tau) * float(o_.scale), floor = kFillFraction * tau;
+  std::vector<std::uint32_t> order;
+  for (std::uint32_t k = 0; k < verdicts.size(); ++k)
+    if (!verdicts[k].split && verdicts[k].offset > floor) order.push_back(k);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return verdicts[a].offset > verdicts[b].offset || (verdicts[a].offset == verdicts[b].offset && a < b);
+  });
+  geom_detail::parallel_chunks(order.size(), geom_detail::chunk_count(order.size(), 1024), kThreads,
+                               [&](std::size_t, std::size_t begin, std::size_t end) {
+                                 for (std::size_t i = begin; i < end; ++i) {
+                                   const std::uint32_t k = order[i];
+                                   verdicts[k] = judge_sample(set.requests[k], glm::vec3(set.points[k]), tested[k],
+                                                              on_boundary[k], floor);
+                                 }
+                               });
+  for (std::uint32_t k : order) {
+    if (!verdicts[k].split || !choice.add(s_, set.requests[k], o_.max_triangles, budget_reached_)) continue;
+    choice.start.push_back(glm::vec3(set.points[k]));
+    insertion_moves_.push_back(verdicts[k].move);
+    if (budget_reached_) break;
+  }
 }
 
 // Each sample is judged over its own element's time scale: the step that moves the element's
@@ -353,12 +403,13 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
 // to at the sample: zero where ψ is linear over the element, so elements split where the field
 // has detail at their size, and refinement stops once ψ is linear at τ.
 Refiner::Verdict Refiner::judge_sample(const SplitRequest& r, const glm::vec3& p, const glm::vec4& tested,
-                                       bool on_boundary) const {
+                                       bool on_boundary, float threshold) const {
   Verdict v;
   SplitEffect fx = split_effect(s_, samples_, r, p, tested.w, glm::vec3(0.0f));
   const ElementMotion m = element_motion(r, glm::vec3(tested), fx.shortest);
   fx = split_effect(s_, samples_, r, p, tested.w, m.sample - m.interpolated);
-  if (fx.offset <= float(o_.tau) * float(o_.scale)) return v;
+  v.offset = fx.offset;
+  if (fx.offset <= threshold) return v;
   // The full step overshoots where the new faces' extra area outweighs the weaker material
   // reached, so the move is backtracked along the step until it lowers E.
   glm::vec3 d = m.sample;

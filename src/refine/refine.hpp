@@ -24,6 +24,10 @@ struct RefineOptions {
   /// Stop also once fewer than budget_slack·max_triangles faces are left to the budget: another
   /// iteration would add that little at the cost of an iteration at full size.
   double budget_slack = 0.1;
+  /// When the next iteration, growing S as the current one does, would run into the budget, fill
+  /// the budget now with the samples below tau (down to tau/4) that would move farthest, rather
+  /// than in a last iteration that costs a pass over all of S for what is left (refine.cpp).
+  bool fill_budget = true;
   std::uint64_t seed = 1;
   double min_angle = 20.0;      ///< degrees: flip edges of faces with a smaller angle
   bool collisions = true;       ///< continuous collision detection of S against itself and B

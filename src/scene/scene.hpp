@@ -68,6 +68,7 @@ struct RefineSpec {
   int max_iterations = 60;      ///< in [0, 100000]
   std::int64_t max_triangles = 200000;  ///< in [1, 50000000]
   double budget_slack = 0.1;            ///< in [0, 1]
+  bool fill_budget = true;              ///< fill the budget early rather than in a partial iteration
   std::uint64_t seed = 1;       ///< seed of the random samples
   double min_angle = 20.0;      ///< degrees, in [0, 60): flip edges of triangles with a smaller angle
   bool collisions = true;       ///< continuous collision handling
