@@ -3,6 +3,7 @@
 // cross of pieces, a thin box cut across, and an icosphere cut by a wavy sheet whose boundary
 // was projected onto it in float, as the refiner does.
 #include <algorithm>
+#include <stdexcept>
 #include <gtest/gtest.h>
 
 #include "pieces_test_support.hpp"
@@ -286,34 +287,11 @@ TEST(PiecesRepair, HairEdgesFarApartAreContractedTogether) {
   expect_valid_pieces(set, b);
 }
 
-TEST(PiecesRepair, FlapLyingOnExteriorIsLeftOut) {
-  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
-  const FractureSurface sheet = example_sheet(4);
-  std::vector<glm::vec4> positions = sheet.positions;
-  std::vector<glm::uvec4> faces = sheet.faces;
-  std::vector<glm::ivec2> pieces = sheet.face_pieces;
-  // A flap folded up onto the box face y = 0 from the boundary edge (1,0,0)-(2,0,0).
-  std::uint32_t v1 = 0, v2 = 0;
-  for (std::uint32_t v = 0; v < positions.size(); ++v) {
-    if (positions[v] == glm::vec4(1, 0, 0, 1)) v1 = v;
-    if (positions[v] == glm::vec4(2, 0, 0, 1)) v2 = v;
-  }
-  const std::uint32_t tip = std::uint32_t(positions.size());
-  positions.emplace_back(1.5f, 0.0f, 0.5f, 1.0f);
-  faces.emplace_back(v2, v1, tip, 0);  // continues the sheet's winding across v1-v2
-  pieces.emplace_back(1, 0);
-  const FractureSurface s = make_fracture_surface(positions, faces, pieces, 2);
-  ASSERT_EQ(validate(s), "");
-  const PieceSet set = build_pieces(s, b);
-  EXPECT_EQ(set.flaps_removed, 1u);
-  EXPECT_EQ(count_inside(set.pieces[0], 1), sheet.faces.size() + 4);  // as PlanarSheetInTwelveTriangleBox
-  expect_valid_pieces(set, b);
-}
-
-// Flaps lying on B are found before the first build: two on opposite sides of the box cost no
-// rebuild.
-TEST(PiecesRepair, FlapsFarApartAreLeftOutWithoutRebuild) {
-  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
+// The 4x4 example sheet in the 3x3x2 box with flaps folded up onto the box's sides: each flap
+// is a triangle from a boundary edge (from, to), in the direction that continues the sheet's
+// winding, to a tip above the edge's midpoint.
+namespace {
+FractureSurface sheet_with_flaps(const std::vector<std::pair<glm::vec4, glm::vec4>>& edges) {
   const FractureSurface sheet = example_sheet(4);
   std::vector<glm::vec4> positions = sheet.positions;
   std::vector<glm::uvec4> faces = sheet.faces;
@@ -321,23 +299,38 @@ TEST(PiecesRepair, FlapsFarApartAreLeftOutWithoutRebuild) {
   auto vertex_at = [&](glm::vec4 p) {
     return std::uint32_t(std::find(positions.begin(), positions.end(), p) - positions.begin());
   };
-  // Flaps folded up onto the box faces y = 0 and y = 3, each continuing the sheet's winding.
-  const std::uint32_t a1 = vertex_at({1, 0, 0, 1}), a2 = vertex_at({2, 0, 0, 1});
-  const std::uint32_t c1 = vertex_at({1, 3, 0, 1}), c2 = vertex_at({2, 3, 0, 1});
-  ASSERT_LT(std::max({a1, a2, c1, c2}), positions.size());
-  const auto tip = std::uint32_t(positions.size());
-  positions.emplace_back(1.5f, 0.0f, 0.5f, 1.0f);
-  positions.emplace_back(1.5f, 3.0f, 0.5f, 1.0f);
-  faces.emplace_back(a2, a1, tip, 0);
-  faces.emplace_back(c1, c2, tip + 1, 0);
-  pieces.emplace_back(1, 0);
-  pieces.emplace_back(1, 0);
-  const FractureSurface s = make_fracture_surface(positions, faces, pieces, 2);
+  for (const auto& [from, to] : edges) {
+    const std::uint32_t a = vertex_at(from), b = vertex_at(to);
+    if (std::max(a, b) >= sheet.positions.size()) throw std::logic_error("no such sheet vertex");
+    positions.push_back(0.5f * (from + to) + glm::vec4(0.0f, 0.0f, 0.5f, 0.0f));
+    faces.emplace_back(a, b, std::uint32_t(positions.size() - 1), 0);
+    pieces.emplace_back(1, 0);
+  }
+  return make_fracture_surface(positions, faces, pieces, 2);
+}
+}  // namespace
+
+TEST(PiecesRepair, FlapLyingOnExteriorIsLeftOut) {
+  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
+  // A flap folded up onto the box face y = 0 from the boundary edge (1,0,0)-(2,0,0).
+  const FractureSurface s = sheet_with_flaps({{{2, 0, 0, 1}, {1, 0, 0, 1}}});
+  ASSERT_EQ(validate(s), "");
+  const PieceSet set = build_pieces(s, b);
+  EXPECT_EQ(set.flaps_removed, 1u);
+  EXPECT_EQ(count_inside(set.pieces[0], 1), example_sheet(4).faces.size() + 4);  // as PlanarSheetInTwelveTriangleBox
+  expect_valid_pieces(set, b);
+}
+
+// Flaps lying on B are found before the first build: two on opposite sides of the box cost no
+// rebuild.
+TEST(PiecesRepair, FlapsFarApartAreLeftOutWithoutRebuild) {
+  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
+  const FractureSurface s = sheet_with_flaps({{{2, 0, 0, 1}, {1, 0, 0, 1}}, {{1, 3, 0, 1}, {2, 3, 0, 1}}});
   ASSERT_EQ(validate(s), "");
   const PieceSet set = build_pieces(s, b);
   EXPECT_EQ(set.flaps_removed, 2u);
   EXPECT_EQ(set.attempts, 1u);
-  EXPECT_EQ(count_inside(set.pieces[0], 1), sheet.faces.size() + 4);
+  EXPECT_EQ(count_inside(set.pieces[0], 1), example_sheet(4).faces.size() + 4);
   expect_valid_pieces(set, b);
 }
 
