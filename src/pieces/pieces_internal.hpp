@@ -219,7 +219,8 @@ struct RepairReport {
 };
 
 /// S with the edges (gone, keep) of `contractions` contracted into keep, in order (those no
-/// longer edges skipped), then every boundary edge shorter than `min_edge` contracted (shortest first; the end that
+/// longer edges skipped; contractions whose neighbourhoods do not touch an earlier one's are made
+/// together, which can let through a pair that one at a time would refuse the second of), then every boundary edge shorter than `min_edge` contracted (shortest first; the end that
 /// is kVertexOriginal, else the lower id, is kept) and, when `flaps`, the faces of `left_out`
 /// (input numbering: faces with two or three boundary edges whose fracture polygon could not be
 /// made) and then every face with two or three boundary edges (so all corners on B) that is

@@ -92,6 +92,37 @@ bool contract(FractureSurface& s, std::vector<std::uint32_t>& origin, std::uint3
   return contract_all(s, origin, {{gone, keep}});
 }
 
+// The contractions (gone, keep) in order, made in rounds: a contraction whose neighbourhood
+// touches none of an earlier one still waiting joins the round, and a round is made with one
+// rebuild of S (one at a time, in order, when that fails). One rebuild per contraction made the
+// pieces stage's repair cost grow with the square of its retries (65 attempts in 6 minutes).
+void contract_in_rounds(FractureSurface& s, RepairReport& report,
+                        std::vector<std::pair<std::uint32_t, std::uint32_t>> pending) {
+  while (!pending.empty()) {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> round, later;
+    std::vector<char> busy(s.positions.size(), 0);
+    auto ring = [&](std::uint32_t v, auto&& visit) {
+      for (std::uint32_t k = s.vf_offsets[v]; k < s.vf_offsets[v + 1]; ++k)
+        for (int c = 0; c < 3; ++c) visit(s.faces[s.vf_faces[k]][c]);
+    };
+    for (const auto& c : pending) {
+      if (std::max(c.first, c.second) >= s.positions.size()) continue;  // no vertices, so no edge, of S
+      bool free = true;
+      for (std::uint32_t v : {c.first, c.second}) ring(v, [&](std::uint32_t w) { free = free && !busy[w]; });
+      for (std::uint32_t v : {c.first, c.second}) ring(v, [&](std::uint32_t w) { busy[w] = 1; });
+      if (!free) later.push_back(c);
+      else if (find_edge(s, c.first, c.second) != kNoEdge) round.push_back(c);
+    }
+    if (round.size() > 1 && contract_all(s, report.face_origin, round)) {
+      report.contracted += std::uint32_t(round.size());
+    } else {
+      for (const auto& [gone, keep] : round)
+        if (find_edge(s, gone, keep) != kNoEdge && contract(s, report.face_origin, gone, keep)) ++report.contracted;
+    }
+    pending = std::move(later);
+  }
+}
+
 // One pass over the boundary edges shorter than min_length, shortest first; true if any went.
 // Every rebuild and validation of S costs a pass over all of it, so the collapses whose
 // neighbourhoods do not touch are made together; only when that fails are they made one by one.
@@ -203,8 +234,7 @@ FractureSurface repair_boundary(FractureSurface s, const ExteriorMesh& m, double
   FractureSurface out = std::move(s);
   report.face_origin.resize(out.faces.size());
   for (std::uint32_t f = 0; f < out.faces.size(); ++f) report.face_origin[f] = f;
-  for (const auto& [gone, keep] : contractions)
-    if (find_edge(out, gone, keep) != kNoEdge && contract(out, report.face_origin, gone, keep)) ++report.contracted;
+  contract_in_rounds(out, report, contractions);
   if (min_edge > 0.0) collapse_short_edges(out, report.face_origin, min_edge, report.collapsed);
   if (!flaps) return out;
   for (std::uint32_t face : left_out) {
