@@ -57,9 +57,43 @@ void build_edges(FractureSurface& s) {
   }
 }
 
+namespace {
+
+// fan_count for a vertex with at most kSmallFan faces: the faces joined by the edges they share at
+// v, pairwise (n² tiny comparisons beat sorting and allocating for the usual 4 to 8 faces).
+constexpr std::uint32_t kSmallFan = 16;
+
+std::uint32_t small_fan_count(const FractureSurface& s, std::uint32_t v, std::uint32_t begin, std::uint32_t n) {
+  std::uint32_t edge[kSmallFan][2], parent[kSmallFan];
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const std::uint32_t f = s.vf_faces[begin + k];
+    const std::uint32_t i = s.faces[f].x == v ? 0u : s.faces[f].y == v ? 1u : 2u;
+    edge[k][0] = s.face_edges[3 * f + i];
+    edge[k][1] = s.face_edges[3 * f + (i + 2) % 3];
+    parent[k] = k;
+  }
+  auto root = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::uint32_t fans = n;
+  for (std::uint32_t a = 0; a < n; ++a)
+    for (std::uint32_t b = a + 1; b < n; ++b) {
+      const bool share = edge[a][0] == edge[b][0] || edge[a][0] == edge[b][1] || edge[a][1] == edge[b][0] ||
+                         edge[a][1] == edge[b][1];
+      if (!share) continue;
+      const std::uint32_t ra = root(a), rb = root(b);
+      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb), --fans;
+    }
+  return fans;
+}
+
+}  // namespace
+
 std::uint32_t fan_count(const FractureSurface& s, std::uint32_t v, std::vector<glm::uvec2>& scratch) {
   const std::uint32_t begin = s.vf_offsets[v], n = s.vf_offsets[v + 1] - begin;
   if (n <= 1) return n;
+  if (n <= kSmallFan) return small_fan_count(s, v, begin, n);
   // (edge, local face) for the two edges of each incident face that touch v.
   scratch.clear();
   for (std::uint32_t k = 0; k < n; ++k) {
