@@ -389,11 +389,11 @@ void Refiner::fill_budget(const SampleSet& set, const std::vector<glm::vec4>& te
                                                               on_boundary[k], floor);
                                  }
                                });
-  for (std::uint32_t k : order) {
+  for (std::size_t i = 0; i < order.size() && !budget_reached_; ++i) {
+    const std::uint32_t k = order[i];
     if (!verdicts[k].split || !choice.add(s_, set.requests[k], o_.max_triangles, budget_reached_)) continue;
     choice.start.push_back(glm::vec3(set.points[k]));
     insertion_moves_.push_back(verdicts[k].move);
-    if (budget_reached_) break;
   }
 }
 
