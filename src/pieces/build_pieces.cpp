@@ -85,7 +85,7 @@ struct PokingOut : RunError {
                                           [](const auto& a, const auto& b) { return a.second.depth < b.second.depth; });
     return "the faces of fracture surface vertex " + std::to_string(deepest->first) + " at " +
            format_point(deepest->second.at) + " poke out of the exterior by " + std::to_string(deepest->second.depth) +
-           (vertices.size() > 1 ? " (and " + std::to_string(vertices.size() - 1) + " more vertices')" : "");
+           (vertices.size() > 1 ? " (the faces of " + std::to_string(vertices.size() - 1) + " more vertices poke out less)" : "");
   }
 };
 

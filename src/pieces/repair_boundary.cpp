@@ -3,6 +3,7 @@
 // with two boundary edges lying flat on B). Each edit is kept only when S stays valid.
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "geom/intersect.hpp"
 #include "pieces/pieces_internal.hpp"
@@ -126,20 +127,23 @@ void contract_in_rounds(FractureSurface& s, RepairReport& report,
   }
 }
 
-// One pass over the boundary edges shorter than min_length, shortest first; true if any went.
-// Every rebuild and validation of S costs a pass over all of it, so the collapses whose
-// neighbourhoods do not touch are made together; only when that fails are they made one by one.
-bool collapse_pass(FractureSurface& s, std::vector<std::uint32_t>& origin, double min_length, std::uint32_t& count) {
-  const std::uint32_t before = count;
+// One pass over the boundary edges shorter than min_length, shortest first, but for those
+// refused before; true if any went or was newly refused. Every rebuild and validation of S costs
+// a pass over all of it, so the collapses whose neighbourhoods do not touch are made together (in
+// halves when that fails); those touching one of them wait for the next pass.
+bool collapse_pass(FractureSurface& s, std::vector<std::uint32_t>& origin, double min_length, std::uint32_t& count,
+                   std::set<std::pair<std::uint32_t, std::uint32_t>>& refused) {
   std::vector<std::pair<double, glm::uvec2>> shortest;
   for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
     const double len = glm::length(at(s, s.edges[e].x) - at(s, s.edges[e].y));
-    if (s.edge_special[e] == kEdgeBoundary && len < min_length) shortest.emplace_back(len, s.edges[e]);
+    if (s.edge_special[e] == kEdgeBoundary && len < min_length && !refused.count({s.edges[e].x, s.edges[e].y}))
+      shortest.emplace_back(len, s.edges[e]);
   }
   std::sort(shortest.begin(), shortest.end(), [](const auto& x, const auto& y) {
     return x.first < y.first || (x.first == y.first && (x.second.x < y.second.x || (x.second.x == y.second.x && x.second.y < y.second.y)));
   });
   std::vector<std::pair<std::uint32_t, std::uint32_t>> batch;
+  std::vector<glm::uvec2> batch_edges;
   std::vector<char> busy(s.positions.size(), 0);
   auto ring = [&](std::uint32_t v, auto&& visit) {
     for (std::uint32_t k = s.vf_offsets[v]; k < s.vf_offsets[v + 1]; ++k)
@@ -151,16 +155,24 @@ bool collapse_pass(FractureSurface& s, std::vector<std::uint32_t>& origin, doubl
     if (!free) continue;
     for (std::uint32_t v : {e.x, e.y}) ring(v, [&](std::uint32_t w) { busy[w] = 1; });
     batch.push_back(gone_and_kept(s, e.x, e.y));
+    batch_edges.push_back(e);
   }
-  // The short edges left out (they touch one in the batch) come in the next pass.
-  count += contract_halving(s, origin, batch);
-  return count != before;
+  const std::uint32_t made = contract_halving(s, origin, batch);
+  count += made;
+  if (made == batch.size()) return made > 0;
+  // A collapse made removes its edge (the batch's neighbourhoods do not touch): those still
+  // there were refused, and are not tried again.
+  const std::size_t known = refused.size();
+  for (const glm::uvec2 e : batch_edges)
+    if (find_edge(s, e.x, e.y) != kNoEdge) refused.insert({e.x, e.y});
+  return made > 0 || refused.size() > known;
 }
 
 // Passes until none collapses: a collapse can make a neighbouring boundary edge short.
 void collapse_short_edges(FractureSurface& s, std::vector<std::uint32_t>& origin, double min_length,
                           std::uint32_t& count) {
-  while (collapse_pass(s, origin, min_length, count)) {
+  std::set<std::pair<std::uint32_t, std::uint32_t>> refused;
+  while (collapse_pass(s, origin, min_length, count, refused)) {
   }
 }
 
