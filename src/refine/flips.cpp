@@ -4,7 +4,9 @@
 #include <cmath>
 #include <set>
 
-#include "geom/face_guard.hpp"
+#include "geom/bvh.hpp"
+#include "geom/bvh_traverse.hpp"
+#include "geom/intersect.hpp"
 #include "geom/parallel.hpp"
 
 #include "refine/topology_edit.hpp"
@@ -105,47 +107,86 @@ std::vector<FlipCandidate> candidate_flips(const FractureSurface& s, std::span<c
   return out;
 }
 
+// The pairs (i, j) of faces that meet (exact, as mesh_faces_intersect), i from `query` and j any
+// face of S other than i; in order.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> meeting_faces(const std::vector<glm::dvec3>& x,
+                                                                   const std::vector<TriangleIds>& faces,
+                                                                   const std::vector<std::uint32_t>& query,
+                                                                   const Bvh& all, int threads) {
+  std::vector<TriangleIds> picked;
+  for (std::uint32_t f : query) picked.push_back(faces[f]);
+  BvhOptions o;
+  o.threads = threads;
+  const Bvh tree = build_bvh(x, picked, o);
+  using Pair = std::pair<std::uint32_t, std::uint32_t>;
+  auto out = collect_overlaps<Pair>(tree, all, false, threads, [&](std::uint32_t k, std::uint32_t j, std::vector<Pair>& found) {
+    if (query[k] != j && mesh_faces_intersect(x, faces[query[k]], faces[j])) found.emplace_back(query[k], j);
+  });
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 }  // namespace
 
 std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> samples, const ExteriorSurface&,
                                 const FlipOptions& o) {
   const std::vector<FlipCandidate> candidates = candidate_flips(s, samples, o);
   if (candidates.empty()) return 0;
-  // A flip moves surface inside its quad when the quad is not flat, which can cut through a
-  // nearby sheet of S: every candidate's new faces are tested against S as the pass found it
-  // (in parallel), then, in order, against the faces of the flips made before it.
-  FaceGuard guard(double_positions(s), face_triangles(s));
-  std::vector<std::vector<TriangleIds>> new_faces(candidates.size());
-  std::vector<std::vector<std::uint32_t>> replaced(candidates.size());
-  for (std::size_t k = 0; k < candidates.size(); ++k) {
-    const FlipCandidate& c = candidates[k];
-    const glm::uvec2 ab = s.edges[c.edge];
-    new_faces[k] = {{c.opposite.x, ab.x, c.opposite.y}, {c.opposite.y, ab.y, c.opposite.x}};
-    replaced[k] = {c.faces.x, c.faces.y};
-  }
-  const auto blockers = guard.snapshot_blockers(new_faces, replaced, o.threads);
-  const auto conflicts = guard.batch_conflicts(new_faces, o.threads);
-  std::vector<char> accepted(candidates.size(), 0);
+  // The flips are made first (in edge order, each face at most once) and checked afterwards: a
+  // flip moves surface inside its quad when the quad is not flat, which can cut through a nearby
+  // sheet of S. One pass of the new faces against all of S finds that; the later of two flips
+  // whose faces meet, and a flip whose faces meet any other face, is undone, and the faces it
+  // restores are checked in turn (they were S's, so they can meet only faces of flips still made).
+  // Checking each candidate's quad before its flip tested ~60 faces against both new faces for
+  // each of ~30K candidates and refused none on the bunny: a quarter of its refinement time.
+  struct Made {
+    std::uint32_t faces[2];
+    glm::uvec4 old[2];
+  };
+  std::vector<Made> made;
+  std::vector<std::int32_t> owner(s.faces.size(), -1);  // face -> index in `made` while flipped
   std::vector<char> used(s.faces.size(), 0);
   std::set<std::pair<std::uint32_t, std::uint32_t>> created;  // edges this pass made (adjacency is stale)
-  std::size_t flips = 0;
-  for (std::size_t k = 0; k < candidates.size(); ++k) {
-    const FlipCandidate& c = candidates[k];
+  for (const FlipCandidate& c : candidates) {
     const std::uint32_t f1 = s.ef_faces[s.ef_offsets[c.edge]], f2 = s.ef_faces[s.ef_offsets[c.edge] + 1];
     const auto diagonal = std::minmax(c.opposite.x, c.opposite.y);
     if (used[f1] || used[f2] || created.count(diagonal)) continue;
-    // A blocker still there (not replaced by a flip made so far: `used`) or a flip made so far
-    // whose faces meet this one's refuses it.
-    if (std::any_of(blockers[k].begin(), blockers[k].end(), [&](std::uint32_t g) { return used[g] == 0; })) continue;
-    if (std::any_of(conflicts[k].begin(), conflicts[k].end(), [&](std::uint32_t j) { return accepted[j] != 0; })) continue;
+    const Made m{{c.faces.x, c.faces.y}, {s.faces[c.faces.x], s.faces[c.faces.y]}};
     if (!flip_edge(s, c.edge)) continue;
-    accepted[k] = 1;
     created.insert(diagonal);
     used[c.faces.x] = used[c.faces.y] = 1;
-    ++flips;
+    owner[c.faces.x] = owner[c.faces.y] = std::int32_t(made.size());
+    made.push_back(m);
   }
-  if (flips) rebuild_after_flips(s);
-  return flips;
+  if (made.empty()) return 0;
+  const std::vector<glm::dvec3> x = double_positions(s);
+  std::vector<TriangleIds> faces = face_triangles(s);
+  BvhOptions tree_options;
+  tree_options.threads = o.threads;
+  const Bvh all = build_bvh(x, faces, tree_options);  // positions do not change: boxes stay valid
+  std::vector<std::uint32_t> check;
+  for (const Made& m : made) check.insert(check.end(), {m.faces[0], m.faces[1]});
+  std::size_t undone = 0;
+  while (!check.empty()) {
+    std::set<std::int32_t> undo;
+    for (const auto& [f, g] : meeting_faces(x, faces, check, all, o.threads)) {
+      // A flip's faces meeting S's: that flip goes; two flips' faces meeting: the later one.
+      if (const std::int32_t k = std::max(owner[f], owner[g]); k >= 0) undo.insert(k);
+    }
+    check.clear();
+    for (std::int32_t k : undo) {
+      for (int i = 0; i < 2; ++i) {
+        const std::uint32_t f = made[std::size_t(k)].faces[i];
+        s.faces[f] = made[std::size_t(k)].old[i];
+        faces[f] = {s.faces[f].x, s.faces[f].y, s.faces[f].z};
+        owner[f] = -1;
+        check.push_back(f);
+      }
+      ++undone;
+    }
+  }
+  rebuild_after_flips(s);
+  return made.size() - undone;
 }
 
 }  // namespace fracref

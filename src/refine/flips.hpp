@@ -22,8 +22,11 @@ struct FlipOptions {
 /// within max_dihedral of coplanar (so the shape barely changes), both new faces keep the old
 /// orientation, none of the quad's four outer edges is a junction (non-manifold) edge, and the
 /// energy Σ A ψ̄ (ψ per vertex from `samples`) does not rise, and neither new face meets another
-/// face of S (exact test: S stays free of self-intersections). Faces touched
-/// by one flip are not flipped again in the same pass. Rebuilds the adjacency when anything flipped.
+/// face of S (exact test: S stays free of self-intersections). The flips are made first and
+/// checked together afterwards: one whose faces meet a face of S, or the later of two whose faces
+/// meet, is undone, and so on until the faces restored meet nothing. Faces touched by one flip
+/// (made or undone) are not flipped again in the same pass. Rebuilds the adjacency when anything
+/// flipped.
 /// \return the number of flips.
 std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> samples, const ExteriorSurface& exterior,
                                 const FlipOptions& options);
