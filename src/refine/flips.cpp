@@ -163,7 +163,9 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
   std::vector<TriangleIds> faces = face_triangles(s);
   BvhOptions tree_options;
   tree_options.threads = o.threads;
-  const Bvh all = build_bvh(x, faces, tree_options);  // positions do not change: boxes stay valid
+  // The faces' boxes after the flips. A face restored by an undo keeps its flipped box here, so
+  // only pairs of two restored faces could be missed, and those were both S's: they cannot meet.
+  const Bvh all = build_bvh(x, faces, tree_options);
   std::vector<std::uint32_t> check;
   for (const Made& m : made) check.insert(check.end(), {m.faces[0], m.faces[1]});
   std::size_t undone = 0;
