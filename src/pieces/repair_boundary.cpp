@@ -101,6 +101,30 @@ std::uint32_t contract_halving(FractureSurface& s, std::vector<std::uint32_t>& o
   return contract_halving(s, origin, {batch.begin(), middle}) + contract_halving(s, origin, {middle, batch.end()});
 }
 
+// The vertices of the faces around chosen vertices, marked: an edit whose neighbourhood touches
+// none marked so far can be made together with the ones marked (their faces are apart).
+class Neighbourhoods {
+ public:
+  explicit Neighbourhoods(const FractureSurface& s) : s_(s), marked_(s.positions.size(), 0) {}
+  bool free(std::uint32_t a, std::uint32_t b) const {
+    bool free = true;
+    for (std::uint32_t v : {a, b}) ring(v, [&](std::uint32_t w) { free = free && !marked_[w]; });
+    return free;
+  }
+  void mark(std::uint32_t a, std::uint32_t b) {
+    for (std::uint32_t v : {a, b}) ring(v, [&](std::uint32_t w) { marked_[w] = 1; });
+  }
+
+ private:
+  template <class Visit>
+  void ring(std::uint32_t v, Visit&& visit) const {
+    for (std::uint32_t k = s_.vf_offsets[v]; k < s_.vf_offsets[v + 1]; ++k)
+      for (int c = 0; c < 3; ++c) visit(s_.faces[s_.vf_faces[k]][c]);
+  }
+  const FractureSurface& s_;
+  std::vector<char> marked_;
+};
+
 // The contractions (gone, keep) in order, made in rounds: a contraction whose neighbourhood
 // touches none of an earlier one still waiting joins the round, and a round is made with one
 // rebuild of S (in halves when that fails). One rebuild per contraction made the
@@ -109,16 +133,11 @@ void contract_in_rounds(FractureSurface& s, RepairReport& report,
                         std::vector<std::pair<std::uint32_t, std::uint32_t>> pending) {
   while (!pending.empty()) {
     std::vector<std::pair<std::uint32_t, std::uint32_t>> round, later;
-    std::vector<char> busy(s.positions.size(), 0);
-    auto ring = [&](std::uint32_t v, auto&& visit) {
-      for (std::uint32_t k = s.vf_offsets[v]; k < s.vf_offsets[v + 1]; ++k)
-        for (int c = 0; c < 3; ++c) visit(s.faces[s.vf_faces[k]][c]);
-    };
+    Neighbourhoods taken(s);
     for (const auto& c : pending) {
       if (std::max(c.first, c.second) >= s.positions.size()) continue;  // no vertices, so no edge, of S
-      bool free = true;
-      for (std::uint32_t v : {c.first, c.second}) ring(v, [&](std::uint32_t w) { free = free && !busy[w]; });
-      for (std::uint32_t v : {c.first, c.second}) ring(v, [&](std::uint32_t w) { busy[w] = 1; });
+      const bool free = taken.free(c.first, c.second);
+      taken.mark(c.first, c.second);  // a waiting contraction holds back the later ones it touches
       if (!free) later.push_back(c);
       else if (find_edge(s, c.first, c.second) != kNoEdge) round.push_back(c);
     }
@@ -144,16 +163,10 @@ bool collapse_pass(FractureSurface& s, std::vector<std::uint32_t>& origin, doubl
   });
   std::vector<std::pair<std::uint32_t, std::uint32_t>> batch;
   std::vector<glm::uvec2> batch_edges;
-  std::vector<char> busy(s.positions.size(), 0);
-  auto ring = [&](std::uint32_t v, auto&& visit) {
-    for (std::uint32_t k = s.vf_offsets[v]; k < s.vf_offsets[v + 1]; ++k)
-      for (int c = 0; c < 3; ++c) visit(s.faces[s.vf_faces[k]][c]);
-  };
+  Neighbourhoods taken(s);
   for (const auto& [len, e] : shortest) {
-    bool free = true;
-    for (std::uint32_t v : {e.x, e.y}) ring(v, [&](std::uint32_t w) { free = free && !busy[w]; });
-    if (!free) continue;
-    for (std::uint32_t v : {e.x, e.y}) ring(v, [&](std::uint32_t w) { busy[w] = 1; });
+    if (!taken.free(e.x, e.y)) continue;
+    taken.mark(e.x, e.y);
     batch.push_back(gone_and_kept(s, e.x, e.y));
     batch_edges.push_back(e);
   }

@@ -187,7 +187,7 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
       ++undone;
     }
   }
-  rebuild_after_flips(s);
+  if (undone < made.size()) rebuild_after_flips(s);  // all undone: S is as it was, adjacency too
   return made.size() - undone;
 }
 

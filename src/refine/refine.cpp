@@ -376,8 +376,9 @@ void Refiner::fill_budget(const SampleSet& set, const std::vector<glm::vec4>& te
   if (!(after > before) || after * (after / before) < double(o_.max_triangles)) return;
   const float tau = float(o_.tau) * float(o_.scale), floor = kFillFraction * tau;
   std::vector<std::uint32_t> order;
+  // Samples above τ that were not split failed the energy test already: judged again, they would again.
   for (std::uint32_t k = 0; k < verdicts.size(); ++k)
-    if (!verdicts[k].split && verdicts[k].offset > floor) order.push_back(k);
+    if (!verdicts[k].split && verdicts[k].offset > floor && verdicts[k].offset <= tau) order.push_back(k);
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
     return verdicts[a].offset > verdicts[b].offset || (verdicts[a].offset == verdicts[b].offset && a < b);
   });
