@@ -23,37 +23,48 @@ struct BuildTask {
 // (ties by id). A node's items are a contiguous range of codes; it splits where the highest bit
 // that differs within the range turns from 0 to 1: a spatial median along the longest axis first
 // (the grid is a cube, so long axes carry the leading bits). Building is a sort and a binary
-// search per node, several times faster than partitioning at every level.
+// search per node, several times faster than partitioning at every level. A 1024-cell grid per
+// axis (30-bit codes, three radix passes) is fine enough for the trees here: items sharing a cell
+// split at the middle of their range, and the sort was most of the build with 63-bit codes.
 struct Keyed {
-  std::uint64_t code;
+  std::uint32_t code;
   std::uint32_t id;
 };
 
+constexpr int kGridBits = 10;
+
 void radix_sort(std::vector<Keyed>& items) {
-  constexpr int kBits = 11, kPasses = 6;  // 66 bits >= the 63 of a code
+  constexpr int kBits = kGridBits, kPasses = 3;
   std::vector<Keyed> scratch(items.size());
+  std::vector<std::uint32_t> count((1u << kBits) + 1);
   for (int pass = 0; pass < kPasses; ++pass) {
     const int shift = pass * kBits;
-    std::vector<std::uint32_t> count((1u << kBits) + 1, 0);
+    std::fill(count.begin(), count.end(), 0u);
     for (const Keyed& k : items) ++count[((k.code >> shift) & ((1u << kBits) - 1)) + 1];
-    if (count[1] == items.size()) continue;  // every item in digit 0: nothing moves
+    if (*std::max_element(count.begin(), count.end()) == items.size()) continue;  // one digit: nothing moves
     for (std::size_t d = 1; d < count.size(); ++d) count[d] += count[d - 1];
     for (const Keyed& k : items) scratch[count[(k.code >> shift) & ((1u << kBits) - 1)]++] = k;
     items.swap(scratch);
   }
 }
 
-std::vector<Keyed> morton_sorted(const std::vector<Aabb>& boxes) {
+std::vector<Keyed> morton_sorted(const std::vector<Aabb>& boxes, int threads) {
   Aabb bounds;
   for (const Aabb& b : boxes) bounds.expand(b.lo + b.hi);
   const dvec3 ext = bounds.hi - bounds.lo;
   const double side = std::max({ext.x, ext.y, ext.z});
-  const double scale = side > 0.0 ? double((1u << 21) - 1) / side : 0.0;
+  const double top = double((1u << kGridBits) - 1);
+  const double scale = side > 0.0 ? top / side : 0.0;
   std::vector<Keyed> items(boxes.size());
-  for (std::size_t i = 0; i < boxes.size(); ++i) {
-    const dvec3 t = glm::clamp(((boxes[i].lo + boxes[i].hi) - bounds.lo) * scale, 0.0, double((1u << 21) - 1));
-    items[i] = {morton_interleave(std::uint64_t(t.z), std::uint64_t(t.y), std::uint64_t(t.x)), std::uint32_t(i)};
-  }
+  auto code = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const dvec3 t = glm::clamp(((boxes[i].lo + boxes[i].hi) - bounds.lo) * scale, 0.0, top);
+      items[i] = {std::uint32_t(morton_interleave(std::uint64_t(t.z), std::uint64_t(t.y), std::uint64_t(t.x))),
+                  std::uint32_t(i)};
+    }
+  };
+  geom_detail::parallel_chunks(boxes.size(), boxes.size() < 8192 ? 1 : 2, threads,
+                               [&](std::size_t, std::size_t begin, std::size_t end) { code(begin, end); });
   radix_sort(items);  // stable: ties stay in id order
   return items;
 }
@@ -61,27 +72,33 @@ std::vector<Keyed> morton_sorted(const std::vector<Aabb>& boxes) {
 // The split of sorted items [begin, end): the first item with the highest differing bit set, or
 // the middle when all codes are equal.
 std::uint32_t split_node(const std::vector<Keyed>& items, std::uint32_t begin, std::uint32_t end) {
-  const std::uint64_t diff = items[begin].code ^ items[end - 1].code;
+  const std::uint32_t diff = items[begin].code ^ items[end - 1].code;
   if (diff == 0) return begin + (end - begin) / 2;
-  const std::uint64_t bit = std::uint64_t(1) << (63 - __builtin_clzll(diff));
+  const std::uint32_t bit = std::uint32_t(1) << (31 - __builtin_clz(diff));
   const auto it = std::partition_point(items.begin() + begin, items.begin() + end,
                                        [bit](const Keyed& k) { return (k.code & bit) == 0; });
   return static_cast<std::uint32_t>(it - items.begin());
 }
 
 // Children are created after their parent, so one backward sweep sets every box bottom-up.
-void fit_boxes(Bvh& bvh) {
-  for (std::size_t k = bvh.nodes.size(); k-- > 0;) {
-    BvhNode& node = bvh.nodes[k];
+// \pre the leaf boxes of the nodes' items are in place.
+void fit_boxes(std::vector<BvhNode>& nodes, const std::vector<Aabb>& leaf_boxes) {
+  for (std::size_t k = nodes.size(); k-- > 0;) {
+    BvhNode& node = nodes[k];
     node.box = Aabb{};
     if (node.count > 0) {
-      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) node.box.expand(bvh.leaf_boxes[i]);
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) node.box.expand(leaf_boxes[i]);
     } else {
-      node.box.expand(bvh.nodes[node.first].box);
-      node.box.expand(bvh.nodes[node.first + 1].box);
+      node.box.expand(nodes[node.first].box);
+      node.box.expand(nodes[node.first + 1].box);
     }
   }
 }
+
+// The fitted subtree over refs[begin, end), its items and leaf boxes written into `bvh` (whose
+// items and leaf_boxes are sized for all refs).
+std::vector<BvhNode> build_subtree(const std::vector<Keyed>& refs, const std::vector<Aabb>& boxes, std::uint32_t begin,
+                                   std::uint32_t end, std::uint32_t leaf, Bvh& bvh);
 
 // The nodes of the subtree over refs[begin, end), root first; inner nodes' `first` indexes
 // this vector, leaves' `first` indexes refs.
@@ -127,6 +144,14 @@ std::vector<BvhNode> join_subtrees(const std::vector<BvhNode>& left, const std::
     if (node.count == 0) node.first = right_index(node.first);
     nodes[right_index(k)] = node;
   }
+  return nodes;
+}
+
+std::vector<BvhNode> build_subtree(const std::vector<Keyed>& refs, const std::vector<Aabb>& boxes, std::uint32_t begin,
+                                   std::uint32_t end, std::uint32_t leaf, Bvh& bvh) {
+  for (std::uint32_t k = begin; k < end; ++k) bvh.items[k] = refs[k].id, bvh.leaf_boxes[k] = boxes[refs[k].id];
+  std::vector<BvhNode> nodes = build_nodes(refs, begin, end, leaf);
+  fit_boxes(nodes, bvh.leaf_boxes);
   return nodes;
 }
 
@@ -197,23 +222,23 @@ Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options) {
   const auto n = static_cast<std::uint32_t>(boxes.size());
   if (n == 0) return bvh;
   const std::uint32_t leaf = std::max<std::uint32_t>(1, options.leaf_size);
-  const std::vector<Keyed> refs = morton_sorted(boxes);
+  const std::vector<Keyed> refs = morton_sorted(boxes, options.threads);
+  bvh.items.resize(n);
+  bvh.leaf_boxes.resize(n);
   if (options.threads < 2 || n < 8192 || n <= leaf) {
-    bvh.nodes = build_nodes(refs, 0, n, leaf);
+    bvh.nodes = build_subtree(refs, boxes, 0, n, leaf, bvh);
   } else {
     // The two halves of the root touch disjoint ranges of refs: build them side by side and
     // append them behind the root (the same tree as the serial build).
     const std::uint32_t mid = split_node(refs, 0, n);
     std::vector<BvhNode> right;
-    std::thread worker([&] { right = build_nodes(refs, mid, n, leaf); });
-    std::vector<BvhNode> left = build_nodes(refs, 0, mid, leaf);
+    std::thread worker([&] { right = build_subtree(refs, boxes, mid, n, leaf, bvh); });
+    std::vector<BvhNode> left = build_subtree(refs, boxes, 0, mid, leaf, bvh);
     worker.join();
     bvh.nodes = join_subtrees(left, right);
+    bvh.nodes[0].box = bvh.nodes[1].box;
+    bvh.nodes[0].box.expand(bvh.nodes[2].box);
   }
-  bvh.items.resize(n);
-  bvh.leaf_boxes.resize(n);
-  for (std::uint32_t k = 0; k < n; ++k) bvh.items[k] = refs[k].id, bvh.leaf_boxes[k] = boxes[refs[k].id];
-  fit_boxes(bvh);
   return bvh;
 }
 
