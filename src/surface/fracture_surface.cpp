@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <sstream>
 
 #include "surface/surface_internal.hpp"
@@ -10,6 +11,8 @@
 
 namespace fracref {
 namespace {
+
+constexpr std::size_t kParallelRebuildFaces = 8192;  // below this a thread costs more than it saves
 
 std::string vec_text(const glm::vec4& p) {
   std::ostringstream out;
@@ -119,9 +122,21 @@ void rebuild_adjacency(FractureSurface& s) {
   }
   surface_detail::build_vertex_faces(s);
   surface_detail::build_edges(s);
+  // The flags, the side components and the copies each read the tables above and write their
+  // own: on a large surface two of them share a second thread (a third off each rebuild, which
+  // the refiner makes twice an iteration).
+  if (s.faces.size() < kParallelRebuildFaces) {
+    surface_detail::build_vertex_flags(s);
+    surface_detail::build_components(s);
+    surface_detail::build_copies(s);
+    return;
+  }
+  auto other = std::async(std::launch::async, [&s] {
+    surface_detail::build_components(s);
+    surface_detail::build_copies(s);
+  });
   surface_detail::build_vertex_flags(s);
-  surface_detail::build_components(s);
-  surface_detail::build_copies(s);
+  other.get();
 }
 
 FractureSurface primary_copy(const FractureSurface& s) {
