@@ -15,6 +15,10 @@ namespace fracref {
 
 namespace {
 
+// Leaves of 8, as the CCD's trees: the check after the pass is mostly box traversal (on the
+// bunny's last pass, 4.9M overlapping pairs for 86K new faces: 170 -> 155 ms).
+constexpr std::uint32_t kFlipTreeLeaf = 8;
+
 struct Quad {
   glm::dvec3 a, b, c, d;  // faces (a, b, c), (b, a, d) -> (c, a, d), (d, b, c)
   double pa, pb, pc, pd;
@@ -116,6 +120,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> meeting_faces(const std::ve
   std::vector<TriangleIds> picked;
   for (std::uint32_t f : query) picked.push_back(faces[f]);
   BvhOptions o;
+  o.leaf_size = kFlipTreeLeaf;
   o.threads = threads;
   const Bvh tree = build_bvh(x, picked, o);
   using Pair = std::pair<std::uint32_t, std::uint32_t>;
@@ -163,6 +168,7 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
   std::vector<TriangleIds> faces = face_triangles(s);
   BvhOptions tree_options;
   tree_options.threads = o.threads;
+  tree_options.leaf_size = kFlipTreeLeaf;
   // The faces' boxes after the flips. A face restored by an undo keeps its flipped box here, so
   // only pairs of two restored faces could be missed, and those were both S's: they cannot meet.
   const Bvh all = build_bvh(x, faces, tree_options);
