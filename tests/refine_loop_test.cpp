@@ -87,6 +87,50 @@ RefineRun run_refine(std::uint64_t seed, int iterations, std::size_t max_triangl
 
 }  // namespace
 
+// A vertex whose move in a flow step would be under 1% of its shortest edge stays exactly where
+// it was (it has settled), while the others move. Field: ψ = 6 + w(x)·(z − 0.5), its pull on the
+// flat sheet 1000 times weaker where x < 0.3 than where x > 0.4 (one level: no blur across).
+TEST(RefineLoop, SlowVerticesSettleWhileFastOnesMove) {
+  static const ExteriorSurface b = make_exterior(unit_cube(), "cube");
+  Grid3 g;
+  g.dims = {45, 45, 45};
+  g.origin = glm::dvec3(-0.05);
+  g.cell = 1.1 / 44.0;
+  for (unsigned z = 0; z < 45; ++z)
+    for (unsigned y = 0; y < 45; ++y)
+      for (unsigned x = 0; x < 45; ++x) {
+        const glm::dvec3 p = g.node_position(x, y, z);
+        const double w = p.x < 0.3 ? 0.01 : (p.x > 0.4 ? 10.0 : 0.01 + (p.x - 0.3) * 99.9);
+        g.values.push_back(float(6.0 + w * (p.z - 0.5)));
+      }
+  PyramidOptions po;
+  po.levels = 1;
+  const FieldGrid4 field = precompute_field_gradient(build_pyramid_cpu(g, po));
+  FractureSurface s = sheet(10, 0.5f);
+  const std::vector<glm::vec4> before = s.positions;
+  auto backend = make_cpu_backend(2);
+  RefineOptions o;
+  o.scale = b.diagonal();
+  o.tau = 1.0;  // no splits: only the flow step
+  o.max_iterations = 1;
+  o.seed = 1;
+  const RefineResult r = refine_surface(s, field, b, *backend, o);
+  ASSERT_EQ(validate(s), "");
+  ASSERT_EQ(r.iterations.size(), 1u);
+  int slow_interior = 0, fast_moved = 0;
+  for (std::size_t v = 0; v < before.size(); ++v) {
+    if (s.vertex_flags[v] & kVertexBoundary) continue;
+    if (before[v].x < 0.25f) {
+      ++slow_interior;
+      EXPECT_EQ(s.positions[v], before[v]) << "vertex " << v << " at x = " << before[v].x << " moved";
+    } else if (before[v].x > 0.45f && s.positions[v] != before[v]) {
+      ++fast_moved;
+    }
+  }
+  EXPECT_EQ(slow_interior, 18);  // x = 0.1 and 0.2, y = 0.1 .. 0.9
+  EXPECT_GT(fast_moved, 20);
+}
+
 TEST(RefineLoop, RefinesKeepsInvariantsAndLowersEnergy) {
   RefineRun r = run_refine(7, 25);
   ASSERT_EQ(validate(r.s), "");
