@@ -63,36 +63,5 @@ TEST(FaceGuard, AcceptedFacesBlockInEveryRunAndInTheTail) {
   EXPECT_TRUE(g.clear(piercing(g, 10, 2.0), {}));     // under it
 }
 
-// A batch of edits: edit k's list names exactly the earlier edits whose faces meet its own, for
-// any thread count; accepting the edits in order with accept()/clear_of_accepted() agrees.
-TEST(FaceGuard, BatchConflictsNameTheEarlierEditsThatMeet) {
-  Row base = row(1, -3.0);
-  FaceGuard g(base.positions, base.faces);
-  const int n = 300;
-  std::vector<std::vector<TriangleIds>> edits;
-  const Row upper = row(n, 5.0);
-  std::vector<std::uint32_t> ids;
-  for (const glm::dvec3& p : upper.positions) ids.push_back(g.add_vertex(p));
-  for (int k = 0; k < n; ++k) {
-    const TriangleIds& f = upper.faces[std::size_t(k)];
-    if (k % 3 == 2) edits.push_back(piercing(g, k - 1, 5.0));  // pierces edit k - 1's face (k - 1: a row face)
-    else edits.push_back({{ids[f[0]], ids[f[1]], ids[f[2]]}});
-  }
-  const auto one = g.batch_conflicts(edits, 1), two = g.batch_conflicts(edits, 2);
-  EXPECT_EQ(one, two);
-  for (int k = 0; k < n; ++k) {
-    SCOPED_TRACE("edit " + std::to_string(k));
-    if (k % 3 == 2) EXPECT_EQ(one[std::size_t(k)], std::vector<std::uint32_t>{std::uint32_t(k - 1)});
-    else EXPECT_TRUE(one[std::size_t(k)].empty());
-  }
-  std::vector<char> accepted(edits.size(), 0);
-  for (std::size_t k = 0; k < edits.size(); ++k) {
-    const bool by_list = std::none_of(one[k].begin(), one[k].end(), [&](std::uint32_t j) { return accepted[j] != 0; });
-    EXPECT_EQ(g.clear_of_accepted(edits[k]), by_list) << "edit " << k;
-    if (by_list) g.accept(edits[k], {}), accepted[k] = 1;
-  }
-  EXPECT_EQ(std::count(accepted.begin(), accepted.end(), 1), 2 * n / 3);
-}
-
 }  // namespace
 }  // namespace fracref

@@ -31,25 +31,6 @@ class FaceGuard {
   }
   bool clear(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const;
 
-  /// clear() in two parts, for many candidate edits judged at once. First, for every edit k, the
-  /// faces of the snapshot other than replaced[k] that faces[k] meet, ignoring every edit
-  /// accepted so far (independent per edit: run on `threads` threads, the answer does not depend
-  /// on their number). Then clear(faces, replaced) is exactly: every one of those blockers is
-  /// gone() and clear_of_accepted(faces).
-  std::vector<std::vector<std::uint32_t>> snapshot_blockers(const std::vector<std::vector<TriangleIds>>& faces,
-                                                            const std::vector<std::vector<std::uint32_t>>& replaced,
-                                                            int threads) const;
-  bool gone(std::uint32_t snapshot_face) const { return gone_[snapshot_face] != 0; }
-  /// Whether `faces` meet no face accepted so far.
-  bool clear_of_accepted(const std::vector<TriangleIds>& faces) const;
-
-  /// For a batch of candidate edits judged in order, for every edit k the earlier edits j < k
-  /// whose faces meet faces[k] (exact, as mesh_faces_intersect), ascending. With it the batch needs
-  /// no accept(): edit k is clear of the accepted ones exactly when none of them is in its list.
-  /// Runs on `threads` threads; the answer does not depend on their number.
-  std::vector<std::vector<std::uint32_t>> batch_conflicts(const std::vector<std::vector<TriangleIds>>& faces,
-                                                          int threads) const;
-
   /// Records an accepted edit: `replaced` faces of the mesh are gone, `faces` exist.
   void accept(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced) {
     accept(std::vector<TriangleIds>(faces), std::vector<std::uint32_t>(replaced));
@@ -58,10 +39,10 @@ class FaceGuard {
 
  private:
   Aabb box_of(const TriangleIds& t) const;
-  // Appends the snapshot faces other than `replaced` that `faces` meet (gone ones left out when
-  // skip_gone; only the first when first_only).
-  void snapshot_hits(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced, bool skip_gone,
-                     bool first_only, std::vector<std::uint32_t>& out) const;
+  // Whether `faces` meet a face of the snapshot that is neither gone nor in `replaced`.
+  bool meets_snapshot(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const;
+  // Whether `faces` meet no face accepted so far.
+  bool clear_of_accepted(const std::vector<TriangleIds>& faces) const;
   void index_new_boxes();
 
   // Accepted faces' boxes are indexed by trees over contiguous runs of new_boxes_ whose sizes
