@@ -15,8 +15,8 @@ namespace fracref {
 
 namespace {
 
-// Leaves of 8, as the CCD's trees: the check after the pass is mostly box traversal (on the
-// bunny's last pass, 4.9M overlapping pairs for 86K new faces: 170 -> 155 ms).
+// Leaves of 8, as the CCD's trees: the check after the pass is mostly box traversal (half the
+// faces of the bunny's final surface against all of them, 4.9M overlapping pairs: 170 -> 155 ms).
 constexpr std::uint32_t kFlipTreeLeaf = 8;
 
 struct Quad {
