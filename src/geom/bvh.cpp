@@ -95,11 +95,6 @@ void fit_boxes(std::vector<BvhNode>& nodes, const std::vector<Aabb>& leaf_boxes)
   }
 }
 
-// The fitted subtree over refs[begin, end), its items and leaf boxes written into `bvh` (whose
-// items and leaf_boxes are sized for all refs).
-std::vector<BvhNode> build_subtree(const std::vector<Keyed>& refs, const std::vector<Aabb>& boxes, std::uint32_t begin,
-                                   std::uint32_t end, std::uint32_t leaf, Bvh& bvh);
-
 // The nodes of the subtree over refs[begin, end), root first; inner nodes' `first` indexes
 // this vector, leaves' `first` indexes refs.
 std::vector<BvhNode> build_nodes(const std::vector<Keyed>& refs, std::uint32_t begin, std::uint32_t end, std::uint32_t leaf) {
@@ -147,6 +142,8 @@ std::vector<BvhNode> join_subtrees(const std::vector<BvhNode>& left, const std::
   return nodes;
 }
 
+// The fitted subtree over refs[begin, end), its items and leaf boxes written into `bvh` (whose
+// items and leaf_boxes are sized for all refs).
 std::vector<BvhNode> build_subtree(const std::vector<Keyed>& refs, const std::vector<Aabb>& boxes, std::uint32_t begin,
                                    std::uint32_t end, std::uint32_t leaf, Bvh& bvh) {
   for (std::uint32_t k = begin; k < end; ++k) bvh.items[k] = refs[k].id, bvh.leaf_boxes[k] = boxes[refs[k].id];

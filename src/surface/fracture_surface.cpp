@@ -123,7 +123,7 @@ void rebuild_adjacency(FractureSurface& s) {
   surface_detail::build_vertex_faces(s);
   surface_detail::build_edges(s);
   // The flags, the side components and the copies each read the tables above and write their
-  // own: on a large surface two of them share a second thread (a third off each rebuild, which
+  // own: on a large surface two of them share a second thread (a fifth off each rebuild, which
   // the refiner makes twice an iteration).
   if (s.faces.size() < kParallelRebuildFaces) {
     surface_detail::build_vertex_flags(s);
