@@ -42,22 +42,28 @@ FractureSurface sheet(int n, float z) {
   return make_fracture_surface(p, f, pieces, 2);
 }
 
+/// The field ψ = psi(p) on a grid of n nodes a side over the cube and a margin of 0.05, with a
+/// pyramid of `levels`.
+template <class Psi>
+FieldGrid4 field_on_cube(unsigned n, int levels, Psi psi) {
+  Grid3 g;
+  g.dims = {n, n, n};
+  g.origin = glm::dvec3(-0.05);
+  g.cell = 1.1 / double(n - 1);
+  for (unsigned z = 0; z < n; ++z)
+    for (unsigned y = 0; y < n; ++y)
+      for (unsigned x = 0; x < n; ++x) g.values.push_back(float(psi(g.node_position(x, y, z))));
+  PyramidOptions po;
+  po.levels = levels;
+  return precompute_field_gradient(build_pyramid_cpu(g, po));
+}
+
 /// ψ = 1 + 0.8·|z − h(x, y)| + 0.5·|z − 0.5|: weak along a wavy surface h, pulled toward the sheet.
 FieldGrid4 wavy_field() {
-  Grid3 g;
-  g.dims = {33, 33, 33};
-  g.origin = glm::dvec3(-0.05);
-  g.cell = 1.1 / 32.0;
-  for (unsigned z = 0; z < 33; ++z)
-    for (unsigned y = 0; y < 33; ++y)
-      for (unsigned x = 0; x < 33; ++x) {
-        glm::dvec3 p = g.node_position(x, y, z);
-        double h = 0.5 + 0.12 * std::sin(6.0 * p.x) * std::cos(5.0 * p.y);
-        g.values.push_back(float(1.0 + 0.8 * std::abs(p.z - h) + 0.5 * std::abs(p.z - 0.5)));
-      }
-  PyramidOptions po;
-  po.levels = 4;
-  return precompute_field_gradient(build_pyramid_cpu(g, po));
+  return field_on_cube(33, 4, [](const glm::dvec3& p) {
+    const double h = 0.5 + 0.12 * std::sin(6.0 * p.x) * std::cos(5.0 * p.y);
+    return 1.0 + 0.8 * std::abs(p.z - h) + 0.5 * std::abs(p.z - 0.5);
+  });
 }
 
 struct RefineRun {
@@ -92,20 +98,10 @@ RefineRun run_refine(std::uint64_t seed, int iterations, std::size_t max_triangl
 // flat sheet 1000 times weaker where x < 0.3 than where x > 0.4 (one level: no blur across).
 TEST(RefineLoop, SlowVerticesSettleWhileFastOnesMove) {
   static const ExteriorSurface b = make_exterior(unit_cube(), "cube");
-  Grid3 g;
-  g.dims = {45, 45, 45};
-  g.origin = glm::dvec3(-0.05);
-  g.cell = 1.1 / 44.0;
-  for (unsigned z = 0; z < 45; ++z)
-    for (unsigned y = 0; y < 45; ++y)
-      for (unsigned x = 0; x < 45; ++x) {
-        const glm::dvec3 p = g.node_position(x, y, z);
-        const double w = p.x < 0.3 ? 0.01 : (p.x > 0.4 ? 10.0 : 0.01 + (p.x - 0.3) * 99.9);
-        g.values.push_back(float(6.0 + w * (p.z - 0.5)));
-      }
-  PyramidOptions po;
-  po.levels = 1;
-  const FieldGrid4 field = precompute_field_gradient(build_pyramid_cpu(g, po));
+  const FieldGrid4 field = field_on_cube(45, 1, [](const glm::dvec3& p) {
+    const double w = p.x < 0.3 ? 0.01 : (p.x > 0.4 ? 10.0 : 0.01 + (p.x - 0.3) * 99.9);
+    return 6.0 + w * (p.z - 0.5);
+  });
   FractureSurface s = sheet(10, 0.5f);
   const std::vector<glm::vec4> before = s.positions;
   auto backend = make_cpu_backend(2);
