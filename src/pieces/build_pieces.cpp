@@ -46,7 +46,7 @@ FractureSurface checked(const FractureSurface& s) {
   }
   FractureSurface copy = s;
   rebuild_adjacency(copy);
-  const std::string problem = validate(copy);
+  const std::string problem = validate_rebuilt(copy);  // validate() would rebuild it a second time
   if (!problem.empty()) throw RunError("the fracture surface is not valid: " + problem);
   return copy;
 }
