@@ -2,12 +2,11 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
-#include <exception>
 #include <functional>
-#include <thread>
 
 #include "animate/animate.hpp"
 #include "animate/animate_internal.hpp"
+#include "geom/parallel.hpp"
 #include "util/atomic_output.hpp"
 #include "util/error.hpp"
 
@@ -102,31 +101,12 @@ void write_all(const PieceSet& pieces, const PieceLayout& layout, std::size_t fr
                      std::to_string(layout.slot_count()));
     return frame_text(tmpl, layout, x, t, frame_count, fps);
   };
-  // Two frames at a time, the second on a helper thread: computing and formatting a frame costs
-  // more than writing it.
+  // Two frames at a time, side by side: computing and formatting a frame costs more than writing it.
   for (std::size_t t = 0; t < frame_count; t += 2) {
-    std::string second;
-    std::exception_ptr failed;
-    std::thread helper;
-    if (t + 1 < frame_count)
-      helper = std::thread([&] {
-        try {
-          second = text_of(t + 1);
-        } catch (...) {
-          failed = std::current_exception();
-        }
-      });
-    std::string first;
-    try {
-      first = text_of(t);
-    } catch (...) {
-      if (helper.joinable()) helper.join();
-      throw;
-    }
-    if (helper.joinable()) helper.join();
-    if (failed) std::rethrow_exception(failed);
-    write_file_atomic(dir / numbered("frame_%04zu.obj", t), first);
-    if (t + 1 < frame_count) write_file_atomic(dir / numbered("frame_%04zu.obj", t + 1), second);
+    const std::size_t n = std::min<std::size_t>(2, frame_count - t);
+    std::string text[2];
+    geom_detail::parallel_chunks(n, n, 2, [&](std::size_t c, std::size_t, std::size_t) { text[c] = text_of(t + c); });
+    for (std::size_t c = 0; c < n; ++c) write_file_atomic(dir / numbered("frame_%04zu.obj", t + c), text[c]);
   }
   write_file_atomic(dir / "frames.mtl", material_text());
 }
