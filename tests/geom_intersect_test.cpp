@@ -154,11 +154,46 @@ TEST(GeomIntersect, RandomPairsMatchSeparatingAxes) {
     const bool expected = sat_intersect({to_v(p[0]), to_v(p[1]), to_v(p[2])}, {to_v(q[0]), to_v(q[1]), to_v(q[2])});
     ASSERT_EQ(triangles_intersect(p, q), expected) << it;
     ASSERT_EQ(triangles_intersect(q, p), expected) << it;
+    const std::vector<dvec3> pos{p[0], p[1], p[2], q[0], q[1], q[2]};
+    ASSERT_EQ(mesh_faces_intersect(pos, {0, 1, 2}, {3, 4, 5}), expected) << it;
+    ASSERT_EQ(mesh_faces_intersect(pos, {4, 5, 3}, {0, 1, 2}), expected) << it;
     hits += expected;
     ++tested;
   }
   EXPECT_GT(hits, tested / 10);
   EXPECT_LT(hits, tested * 9 / 10);
+}
+
+// Faces of a bumpy sheet and its neighbours, the pairs that mesh_faces_intersect decides in
+// projection: nearly coplanar, close, sharing one vertex or none.
+TEST(GeomIntersect, NearlyCoplanarNeighboursMatchSeparatingAxes) {
+  std::mt19937_64 rng(3);
+  std::uniform_int_distribution<int> xy(-6, 6), z(-1, 1);
+  const I scale = I(1) << 20;
+  int hits = 0, tested = 0;
+  for (int it = 0; it < 60000; ++it) {
+    std::vector<dvec3> pos(6);
+    for (dvec3& p : pos) p = dvec3(xy(rng), xy(rng), z(rng));
+    const bool shared = it % 2 == 1;
+    if (shared) pos[3] = pos[0];
+    if (degenerate(pos[0], pos[1], pos[2]) || degenerate(pos[3], pos[4], pos[5])) continue;
+    bool expected;
+    if (shared) {
+      const std::vector<V> cut{to_v(pos[1], scale), to_v(pos[2], scale), lerp_toward(pos[0], pos[2], scale),
+                               lerp_toward(pos[0], pos[1], scale)};
+      expected = sat_intersect(cut, {to_v(pos[0], scale), to_v(pos[4], scale), to_v(pos[5], scale)});
+      ASSERT_EQ(mesh_faces_intersect(pos, {0, 1, 2}, {0, 4, 5}), expected) << it;
+      ASSERT_EQ(mesh_faces_intersect(pos, {5, 0, 4}, {1, 2, 0}), expected) << it;
+    } else {
+      expected = sat_intersect({to_v(pos[0]), to_v(pos[1]), to_v(pos[2])}, {to_v(pos[3]), to_v(pos[4]), to_v(pos[5])});
+      ASSERT_EQ(mesh_faces_intersect(pos, {0, 1, 2}, {3, 4, 5}), expected) << it;
+      ASSERT_EQ(mesh_faces_intersect(pos, {4, 5, 3}, {2, 0, 1}), expected) << it;
+    }
+    hits += expected;
+    ++tested;
+  }
+  EXPECT_GT(hits, tested / 20);
+  EXPECT_LT(hits, tested * 19 / 20);
 }
 
 // Meeting beyond the shared vertex s of (s,a,b) and (s,c,d) is meeting of (s,c,d) with (s,a,b)
