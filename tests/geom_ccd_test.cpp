@@ -80,6 +80,9 @@ TEST(GeomCcd, ExactVertexTriangleContactsAreAlwaysFound) {
     x0[0] = mid - 0.5 * v;
     x1[0] = mid + 0.5 * v;
     ASSERT_TRUE(fracref::ccd_vertex_triangle(x0[0], x0[1], x0[2], x0[3], x1[0], x1[1], x1[2], x1[3])) << it;
+    const double travel[4] = {glm::length(x1[0] - x0[0]), glm::length(x1[1] - x0[1]), glm::length(x1[2] - x0[2]),
+                              glm::length(x1[3] - x0[3])};
+    ASSERT_TRUE(fracref::ccd_vertex_triangle(x0[0], x0[1], x0[2], x0[3], x1[0], x1[1], x1[2], x1[3], travel, {})) << it;
   }
 }
 
@@ -102,6 +105,9 @@ TEST(GeomCcd, ExactEdgeEdgeContactsAreAlwaysFound) {
     x0[3] = dmid - 0.5 * v;
     x1[3] = dmid + 0.5 * v;
     ASSERT_TRUE(fracref::ccd_edge_edge(x0[0], x0[1], x0[2], x0[3], x1[0], x1[1], x1[2], x1[3])) << it;
+    const double travel[4] = {glm::length(x1[0] - x0[0]), glm::length(x1[1] - x0[1]), glm::length(x1[2] - x0[2]),
+                              glm::length(x1[3] - x0[3])};
+    ASSERT_TRUE(fracref::ccd_edge_edge(x0[0], x0[1], x0[2], x0[3], x1[0], x1[1], x1[2], x1[3], travel, {})) << it;
   }
 }
 

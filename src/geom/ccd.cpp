@@ -238,12 +238,6 @@ namespace {
 // displacement; the distance between the two primitives therefore shrinks by at most the sum of
 // both maxima. When the starting distance exceeds that sum (plus the solver's tolerance and a
 // relative margin for the rounding of the distance itself), no contact is possible.
-double max_travel(const dvec3* x0, const dvec3* x1, int first, int count) {
-  double m = 0.0;
-  for (int i = first; i < first + count; ++i) m = std::max(m, glm::length(x1[i] - x0[i]));
-  return m;
-}
-
 double segment_distance(const dvec3& p, const dvec3& q, const dvec3& r, const dvec3& s) {
   const dvec3 d1 = q - p, d2 = s - r, w = p - r;
   const double a = glm::dot(d1, d1), e = glm::dot(d2, d2), f = glm::dot(d2, w);
@@ -266,30 +260,53 @@ double segment_distance(const dvec3& p, const dvec3& q, const dvec3& r, const dv
   return glm::length((p + u * d1) - (r + v * d2));
 }
 
-bool far_apart(double distance, const dvec3* x0, const dvec3* x1, int split, const CcdOptions& o) {
-  double reach = max_travel(x0, x1, 0, split) + max_travel(x0, x1, split, 4 - split);
+bool far_apart(double distance, const dvec3* x0, const double travel[4], int split, const CcdOptions& o) {
+  const double reach = std::max(travel[0], split == 1 ? 0.0 : travel[1]) +
+                       std::max({travel[split], travel[3], split == 1 ? travel[2] : 0.0});
   double scale = 0.0;
   for (int i = 0; i < 4; ++i) scale = std::max({scale, std::abs(x0[i].x), std::abs(x0[i].y), std::abs(x0[i].z)});
   return distance > reach + o.min_distance + o.tolerance + 1e-12 * scale + 1e-9 * distance;
 }
 
+void travels(const dvec3* x0, const dvec3* x1, double out[4]) {
+  for (int i = 0; i < 4; ++i) out[i] = glm::length(x1[i] - x0[i]);
+}
+
 }  // namespace
 
 bool ccd_vertex_triangle(const dvec3& p0, const dvec3& a0, const dvec3& b0, const dvec3& c0, const dvec3& p1,
-                         const dvec3& a1, const dvec3& b1, const dvec3& c1, const CcdOptions& options,
-                         CcdStats* stats) {
+                         const dvec3& a1, const dvec3& b1, const dvec3& c1, const double travel[4],
+                         const CcdOptions& options, CcdStats* stats) {
   const dvec3 x0[4] = {p0, a0, b0, c0}, x1[4] = {p1, a1, b1, c1};
-  if (far_apart(std::sqrt(closest_point_on_triangle(p0, a0, b0, c0).squared_distance), x0, x1, 1, options)) return false;
+  if (far_apart(std::sqrt(closest_point_on_triangle(p0, a0, b0, c0).squared_distance), x0, travel, 1, options)) return false;
   Query q = make_query(true, x0, x1, options);
   return solve(q, options, stats);
 }
 
 bool ccd_edge_edge(const dvec3& a0, const dvec3& b0, const dvec3& c0, const dvec3& d0, const dvec3& a1,
-                   const dvec3& b1, const dvec3& c1, const dvec3& d1, const CcdOptions& options, CcdStats* stats) {
+                   const dvec3& b1, const dvec3& c1, const dvec3& d1, const double travel[4], const CcdOptions& options,
+                   CcdStats* stats) {
   const dvec3 x0[4] = {a0, b0, c0, d0}, x1[4] = {a1, b1, c1, d1};
-  if (far_apart(segment_distance(a0, b0, c0, d0), x0, x1, 2, options)) return false;
+  if (far_apart(segment_distance(a0, b0, c0, d0), x0, travel, 2, options)) return false;
   Query q = make_query(false, x0, x1, options);
   return solve(q, options, stats);
+}
+
+bool ccd_vertex_triangle(const dvec3& p0, const dvec3& a0, const dvec3& b0, const dvec3& c0, const dvec3& p1,
+                         const dvec3& a1, const dvec3& b1, const dvec3& c1, const CcdOptions& options,
+                         CcdStats* stats) {
+  const dvec3 x0[4] = {p0, a0, b0, c0}, x1[4] = {p1, a1, b1, c1};
+  double travel[4];
+  travels(x0, x1, travel);
+  return ccd_vertex_triangle(p0, a0, b0, c0, p1, a1, b1, c1, travel, options, stats);
+}
+
+bool ccd_edge_edge(const dvec3& a0, const dvec3& b0, const dvec3& c0, const dvec3& d0, const dvec3& a1,
+                   const dvec3& b1, const dvec3& c1, const dvec3& d1, const CcdOptions& options, CcdStats* stats) {
+  const dvec3 x0[4] = {a0, b0, c0, d0}, x1[4] = {a1, b1, c1, d1};
+  double travel[4];
+  travels(x0, x1, travel);
+  return ccd_edge_edge(a0, b0, c0, d0, a1, b1, c1, d1, travel, options, stats);
 }
 
 }  // namespace fracref

@@ -55,6 +55,17 @@ bool ccd_edge_edge(const glm::dvec3& a0, const glm::dvec3& b0, const glm::dvec3&
                    const glm::dvec3& a1, const glm::dvec3& b1, const glm::dvec3& c1, const glm::dvec3& d1,
                    const CcdOptions& options = {}, CcdStats* stats = nullptr);
 
+/// The two queries above with each corner's travel given, in the order p, a, b, c (vertex and
+/// triangle) or a, b, c, d (two segments): mesh-level searches compute each vertex's once.
+/// \pre travel[k] >= |x1_k - x0_k|; with glm::length(x1_k - x0_k) the answer is the one the
+/// overloads above give.
+bool ccd_vertex_triangle(const glm::dvec3& p0, const glm::dvec3& a0, const glm::dvec3& b0, const glm::dvec3& c0,
+                         const glm::dvec3& p1, const glm::dvec3& a1, const glm::dvec3& b1, const glm::dvec3& c1,
+                         const double travel[4], const CcdOptions& options, CcdStats* stats = nullptr);
+bool ccd_edge_edge(const glm::dvec3& a0, const glm::dvec3& b0, const glm::dvec3& c0, const glm::dvec3& d0,
+                   const glm::dvec3& a1, const glm::dvec3& b1, const glm::dvec3& c1, const glm::dvec3& d1,
+                   const double travel[4], const CcdOptions& options, CcdStats* stats = nullptr);
+
 enum class CcdKind : std::uint8_t {
   vertex_triangle,  ///< a vertex of the (first, moving) mesh against a triangle (of the second)
   triangle_vertex,  ///< a triangle of the first (moving) mesh against a vertex of the second

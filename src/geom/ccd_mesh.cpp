@@ -89,6 +89,14 @@ std::vector<Aabb> swept_boxes(const std::vector<dvec3>& x0, const std::vector<dv
   return boxes;
 }
 
+// Each vertex's travel over the step, as ccd_vertex_triangle and ccd_edge_edge compute it: once
+// per vertex instead of once per corner of every pair tested.
+std::vector<double> travels(const std::vector<dvec3>& x0, const std::vector<dvec3>& x1) {
+  std::vector<double> out(x0.size());
+  for (std::size_t v = 0; v < x0.size(); ++v) out[v] = glm::length(x1[v] - x0[v]);
+  return out;
+}
+
 bool shares_vertex(const Edge& e, const Edge& f) { return e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1]; }
 
 std::vector<std::array<std::uint32_t, 1>> used_vertices(const Tris& tris, std::size_t n) {
@@ -151,6 +159,7 @@ Motion classify_motion(const std::vector<dvec3>& x0, const std::vector<dvec3>& x
 struct StepTrees {
   const std::vector<dvec3>& x0;
   const std::vector<dvec3>& x1;
+  const std::vector<double>& travel;  // |x1 - x0| per vertex
   double grow;
   int threads;
 
@@ -205,10 +214,13 @@ std::vector<CcdPair> vertex_triangle_pairs(const StepTrees& trees, const Tris& t
                                            const CcdOptions& ccd) {
   const auto& x0 = trees.x0;
   const auto& x1 = trees.x1;
+  const auto& r = trees.travel;
   auto test = [&](std::uint32_t v, std::uint32_t t, std::vector<CcdPair>& found) {
     const auto& tri = tris[t];
     if (tri[0] == v || tri[1] == v || tri[2] == v) return;
-    if (ccd_vertex_triangle(x0[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], x1[v], x1[tri[0]], x1[tri[1]], x1[tri[2]], ccd))
+    const double travel[4] = {r[v], r[tri[0]], r[tri[1]], r[tri[2]]};
+    if (ccd_vertex_triangle(x0[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], x1[v], x1[tri[0]], x1[tri[1]], x1[tri[2]], travel,
+                            ccd))
       found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
   };
   const std::size_t used = m.moving_vertices.size() + m.resting_vertices.size();
@@ -250,11 +262,13 @@ std::vector<CcdPair> edge_edge_pairs(const StepTrees& trees, const std::vector<E
                                      const CcdOptions& ccd) {
   const auto& x0 = trees.x0;
   const auto& x1 = trees.x1;
+  const auto& r = trees.travel;
   auto test = [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
     Edge e = edges[i], f = edges[j];
     if (shares_vertex(e, f)) return;
     if (f < e) std::swap(e, f);
-    if (ccd_edge_edge(x0[e[0]], x0[e[1]], x0[f[0]], x0[f[1]], x1[e[0]], x1[e[1]], x1[f[0]], x1[f[1]], ccd))
+    const double travel[4] = {r[e[0]], r[e[1]], r[f[0]], r[f[1]]};
+    if (ccd_edge_edge(x0[e[0]], x0[e[1]], x0[f[0]], x0[f[1]], x1[e[0]], x1[e[1]], x1[f[0]], x1[f[1]], travel, ccd))
       found.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});
   };
   if (m.moving_edges.size() * kSparseFactor < edges.size()) {
@@ -300,7 +314,7 @@ std::vector<CcdPair> find_step_collisions(const std::vector<dvec3>& x0, const st
   const std::vector<Edge>& edges = options.edges ? *options.edges : own_edges;
   check_flags(options.active_vertices, x0.size(), "active-vertex");
   const Motion motion = classify_motion(x0, x1, triangles, edges, options);
-  StepTrees trees{x0, x1, std::max(0.0, options.ccd.min_distance), options.threads};
+  StepTrees trees{x0, x1, travels(x0, x1), std::max(0.0, options.ccd.min_distance), options.threads};
   std::vector<CcdPair> out = vertex_triangle_pairs(trees, triangles, motion, options.ccd);
   std::vector<CcdPair> ee = edge_edge_pairs(trees, edges, motion, options.ccd);
   out.insert(out.end(), ee.begin(), ee.end());
@@ -372,6 +386,7 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
   std::vector<Edge> edges;
   for (const Edge& e : unique_edges(triangles))
     if (keep(e)) edges.push_back(e);
+  const std::vector<double> r = travels(x0, x1);
   // Moving vertices against static triangles.
   const Bvh moving_vertex_tree = build_bvh(swept_boxes(x0, x1, moving_vertices, 0.0), tree_options);
   auto out = collect_overlaps<CcdPair>(
@@ -379,7 +394,8 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
       [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
         const std::uint32_t v = moving_vertices[k][0];
         const auto& tri = static_triangles[t];
-        if (ccd_vertex_triangle(x0[v], s[tri[0]], s[tri[1]], s[tri[2]], x1[v], s[tri[0]], s[tri[1]], s[tri[2]], ccd))
+        const double travel[4] = {r[v], 0.0, 0.0, 0.0};
+        if (ccd_vertex_triangle(x0[v], s[tri[0]], s[tri[1]], s[tri[2]], x1[v], s[tri[0]], s[tri[1]], s[tri[2]], travel, ccd))
           found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
       });
   // Static vertices against moving triangles.
@@ -392,7 +408,9 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
       [&](std::uint32_t k, std::uint32_t i, std::vector<CcdPair>& found) {
         const std::uint32_t v = m.vertices[k][0], t = moving_triangles[i];
         const auto& tri = triangles[t];
-        if (ccd_vertex_triangle(s[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], s[v], x1[tri[0]], x1[tri[1]], x1[tri[2]], ccd))
+        const double travel[4] = {0.0, r[tri[0]], r[tri[1]], r[tri[2]]};
+        if (ccd_vertex_triangle(s[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], s[v], x1[tri[0]], x1[tri[1]], x1[tri[2]], travel,
+                                ccd))
           found.push_back(vertex_pair(CcdKind::triangle_vertex, v, tri, t));
       });
   // Moving edges against static edges.
@@ -402,7 +420,8 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
       [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
         const Edge& e = edges[i];
         const Edge& f = m.edges[j];
-        if (ccd_edge_edge(x0[e[0]], x0[e[1]], s[f[0]], s[f[1]], x1[e[0]], x1[e[1]], s[f[0]], s[f[1]], ccd))
+        const double travel[4] = {r[e[0]], r[e[1]], 0.0, 0.0};
+        if (ccd_edge_edge(x0[e[0]], x0[e[1]], s[f[0]], s[f[1]], x1[e[0]], x1[e[1]], s[f[0]], s[f[1]], travel, ccd))
           found.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});
       });
   out.insert(out.end(), tv.begin(), tv.end());
