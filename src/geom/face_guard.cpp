@@ -11,7 +11,10 @@ FaceGuard::FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds>
   std::vector<Aabb> boxes;
   boxes.reserve(faces_.size());
   for (const TriangleIds& t : faces_) boxes.push_back(box_of(t));
-  bvh_ = build_bvh(boxes);
+  // Built for a handful of queries on a surface of up to ~200K faces: the build is the cost.
+  BvhOptions o;
+  o.threads = 2;
+  bvh_ = build_bvh(boxes, o);
 }
 
 std::uint32_t FaceGuard::add_vertex(const glm::dvec3& p) {
