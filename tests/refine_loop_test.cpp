@@ -375,6 +375,57 @@ TEST(RefineLoop, FlipThatWouldCutAnotherSheetIsSkipped) {
   EXPECT_NE(find_edge(s, 0, 1), kNoEdge);
 }
 
+// Two flips that are each fine alone but whose new faces cross: a shallow valley A along x (its
+// flip raises a ridge c-d to z = 0.02 over the origin of the quad) and, above it, a shallow ridge
+// B along y (its flip lowers a valley c'-d' to z = 0.017). Both old surfaces, and each new one
+// against the other's old one, stay apart; the two new ones cross. The later flip (edge order:
+// B's edge 4-5 comes after A's 0-1) is undone, the earlier stays.
+TEST(RefineLoop, LaterOfTwoFlipsWhoseNewFacesMeetIsUndone) {
+  const std::vector<glm::vec4> p = {{0, 0, 0, 1},           {1, 0, 0, 1},          {0.5f, 0.1f, 0.02f, 1},
+                                    {0.5f, -0.1f, 0.02f, 1}, {0.5f, -0.5f, 0.038f, 1}, {0.5f, 0.5f, 0.038f, 1},
+                                    {0.4f, 0, 0.017f, 1},    {0.6f, 0, 0.017f, 1}};
+  const std::vector<glm::uvec4> quad_a = {{0, 1, 2, 0}, {1, 0, 3, 0}}, quad_b = {{4, 5, 6, 0}, {5, 4, 7, 0}};
+  const std::vector<glm::vec4> psi(p.size(), glm::vec4(1.0f, 0.0f, 0.0f, 0.0f));
+  const ExteriorSurface none;
+  const FlipOptions options{20.0, 25.0};
+  auto intersections = [](const FractureSurface& m) {
+    std::vector<glm::dvec3> x;
+    for (const glm::vec4& q : m.positions) x.emplace_back(glm::vec3(q));
+    std::vector<TriangleIds> t;
+    for (const glm::uvec4& f : m.faces) t.push_back({f.x, f.y, f.z});
+    return find_self_intersections(x, t, 10).size();
+  };
+  auto surface = [&](std::vector<glm::uvec4> faces) {
+    return make_fracture_surface(p, faces, std::vector<glm::ivec2>(faces.size(), glm::ivec2(1, 0)), 2);
+  };
+  // Each flip alone is made, and clears the other quad's old faces.
+  for (const auto& [flipped, other] : {std::pair{quad_a, quad_b}, std::pair{quad_b, quad_a}}) {
+    FractureSurface one = surface(flipped);
+    ASSERT_EQ(flip_slim_triangles(one, psi, none, options), 1u);
+    std::vector<glm::uvec4> faces = one.faces;
+    faces.insert(faces.end(), other.begin(), other.end());
+    EXPECT_EQ(intersections(surface(faces)), 0u);
+  }
+  // Both flipped at once cross each other.
+  FractureSurface a = surface(quad_a), b = surface(quad_b);
+  ASSERT_EQ(flip_slim_triangles(a, psi, none, options) + flip_slim_triangles(b, psi, none, options), 2u);
+  std::vector<glm::uvec4> both_flipped = a.faces;
+  both_flipped.insert(both_flipped.end(), b.faces.begin(), b.faces.end());
+  ASSERT_GT(intersections(surface(both_flipped)), 0u);
+  // Together: A is made, B undone.
+  std::vector<glm::uvec4> faces = quad_a;
+  faces.insert(faces.end(), quad_b.begin(), quad_b.end());
+  FractureSurface s = surface(faces);
+  ASSERT_EQ(intersections(s), 0u);
+  EXPECT_EQ(flip_slim_triangles(s, psi, none, options), 1u);
+  EXPECT_EQ(validate(s), "");
+  EXPECT_EQ(intersections(s), 0u);
+  EXPECT_NE(find_edge(s, 2, 3), kNoEdge);
+  EXPECT_EQ(find_edge(s, 0, 1), kNoEdge);
+  EXPECT_NE(find_edge(s, 4, 5), kNoEdge);
+  EXPECT_EQ(find_edge(s, 6, 7), kNoEdge);
+}
+
 // The flips' guard tests run in parallel: the pass flips the same edges on any thread count.
 TEST(RefineLoop, FlipsDoNotDependOnTheThreadCount) {
   // A 40 x 40 grid sheet with every other row squashed toward its neighbour: many slim faces.
