@@ -6,14 +6,14 @@
 
 namespace fracref {
 
-FaceGuard::FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces)
+FaceGuard::FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces, int threads)
     : x_(std::move(positions)), faces_(std::move(faces)), s_faces_(faces_.size()), gone_(faces_.size(), 0) {
   std::vector<Aabb> boxes;
   boxes.reserve(faces_.size());
   for (const TriangleIds& t : faces_) boxes.push_back(box_of(t));
   // Built for a handful of queries on a surface of up to ~200K faces: the build is the cost.
   BvhOptions o;
-  o.threads = 2;
+  o.threads = threads;
   bvh_ = build_bvh(boxes, o);
 }
 

@@ -17,8 +17,9 @@ namespace fracref {
 /// \pre the mesh's positions do not change while the guard is in use (only faces are replaced).
 class FaceGuard {
  public:
+  /// `threads` build the box tree (the result never depends on it).
   /// \pre every face index is below positions.size().
-  FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces);
+  FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces, int threads = 2);
 
   /// Adds a vertex that the new faces may use; returns its id (after the mesh's vertices).
   std::uint32_t add_vertex(const glm::dvec3& p);
