@@ -345,6 +345,19 @@ TEST(RefineLoop, FlipsRemoveSlimTrianglesAndKeepInvariants) {
   EXPECT_EQ(flip_slim_triangles(bent, psi, none, FlipOptions{20.0, 5.0}), 0u);
 }
 
+namespace {
+
+// How many pairs of S's faces meet (up to 10), by the exact mesh-level search.
+std::size_t face_intersections(const FractureSurface& m) {
+  std::vector<glm::dvec3> x;
+  for (const glm::vec4& q : m.positions) x.emplace_back(glm::vec3(q));
+  std::vector<TriangleIds> t;
+  for (const glm::uvec4& f : m.faces) t.push_back({f.x, f.y, f.z});
+  return find_self_intersections(x, t, 10).size();
+}
+
+}  // namespace
+
 // A flip moves surface inside its quad; one that would cut through a nearby sheet is skipped.
 TEST(RefineLoop, FlipThatWouldCutAnotherSheetIsSkipped) {
   // A shallow valley along a-b (a, b at z = 0; c, d at z = 0.02, 0.1 off the edge): slim faces
@@ -361,17 +374,10 @@ TEST(RefineLoop, FlipThatWouldCutAnotherSheetIsSkipped) {
   std::vector<glm::uvec4> faces = quad;
   faces.push_back({4, 5, 6, 0});
   FractureSurface s = make_fracture_surface(p, faces, {{1, 0}, {1, 0}, {1, 0}}, 2);
-  auto intersections = [](const FractureSurface& m) {
-    std::vector<glm::dvec3> x;
-    for (const glm::vec4& q : m.positions) x.emplace_back(glm::vec3(q));
-    std::vector<TriangleIds> t;
-    for (const glm::uvec4& f : m.faces) t.push_back({f.x, f.y, f.z});
-    return find_self_intersections(x, t, 10).size();
-  };
-  ASSERT_EQ(intersections(s), 0u);
+  ASSERT_EQ(face_intersections(s), 0u);
   EXPECT_EQ(flip_slim_triangles(s, psi, none, FlipOptions{20.0, 25.0}), 0u);
   EXPECT_EQ(validate(s), "");
-  EXPECT_EQ(intersections(s), 0u);
+  EXPECT_EQ(face_intersections(s), 0u);
   EXPECT_NE(find_edge(s, 0, 1), kNoEdge);
 }
 
@@ -388,13 +394,6 @@ TEST(RefineLoop, LaterOfTwoFlipsWhoseNewFacesMeetIsUndone) {
   const std::vector<glm::vec4> psi(p.size(), glm::vec4(1.0f, 0.0f, 0.0f, 0.0f));
   const ExteriorSurface none;
   const FlipOptions options{20.0, 25.0};
-  auto intersections = [](const FractureSurface& m) {
-    std::vector<glm::dvec3> x;
-    for (const glm::vec4& q : m.positions) x.emplace_back(glm::vec3(q));
-    std::vector<TriangleIds> t;
-    for (const glm::uvec4& f : m.faces) t.push_back({f.x, f.y, f.z});
-    return find_self_intersections(x, t, 10).size();
-  };
   auto surface = [&](std::vector<glm::uvec4> faces) {
     return make_fracture_surface(p, faces, std::vector<glm::ivec2>(faces.size(), glm::ivec2(1, 0)), 2);
   };
@@ -404,22 +403,22 @@ TEST(RefineLoop, LaterOfTwoFlipsWhoseNewFacesMeetIsUndone) {
     ASSERT_EQ(flip_slim_triangles(one, psi, none, options), 1u);
     std::vector<glm::uvec4> faces = one.faces;
     faces.insert(faces.end(), other.begin(), other.end());
-    EXPECT_EQ(intersections(surface(faces)), 0u);
+    EXPECT_EQ(face_intersections(surface(faces)), 0u);
   }
   // Both flipped at once cross each other.
   FractureSurface a = surface(quad_a), b = surface(quad_b);
   ASSERT_EQ(flip_slim_triangles(a, psi, none, options) + flip_slim_triangles(b, psi, none, options), 2u);
   std::vector<glm::uvec4> both_flipped = a.faces;
   both_flipped.insert(both_flipped.end(), b.faces.begin(), b.faces.end());
-  ASSERT_GT(intersections(surface(both_flipped)), 0u);
+  ASSERT_GT(face_intersections(surface(both_flipped)), 0u);
   // Together: A is made, B undone.
   std::vector<glm::uvec4> faces = quad_a;
   faces.insert(faces.end(), quad_b.begin(), quad_b.end());
   FractureSurface s = surface(faces);
-  ASSERT_EQ(intersections(s), 0u);
+  ASSERT_EQ(face_intersections(s), 0u);
   EXPECT_EQ(flip_slim_triangles(s, psi, none, options), 1u);
   EXPECT_EQ(validate(s), "");
-  EXPECT_EQ(intersections(s), 0u);
+  EXPECT_EQ(face_intersections(s), 0u);
   EXPECT_NE(find_edge(s, 2, 3), kNoEdge);
   EXPECT_EQ(find_edge(s, 0, 1), kNoEdge);
   EXPECT_NE(find_edge(s, 4, 5), kNoEdge);
