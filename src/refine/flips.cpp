@@ -131,6 +131,26 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> meeting_faces(const std::ve
   return out;
 }
 
+// The pairs (i, j), i < j, of faces of S that meet (exact, as mesh_faces_intersect), one of them
+// marked; in order. `all` is the tree over S's faces as they are now. One pass over that tree,
+// skipping the subtrees without a marked face: a second tree over the marked faces (half of S
+// after a pass of the bunny) cost its build, and met each pair of two marked faces twice.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> meeting_marked_faces(const std::vector<glm::dvec3>& x,
+                                                                          const std::vector<TriangleIds>& faces,
+                                                                          const std::vector<char>& marked,
+                                                                          const Bvh& all, int threads) {
+  using Pair = std::pair<std::uint32_t, std::uint32_t>;
+  const std::vector<char> node_marked = marked_nodes(all, marked);
+  auto out = collect_overlaps<Pair>(
+      all, all, true, threads,
+      [&](std::uint32_t i, std::uint32_t j, std::vector<Pair>& found) {
+        if ((marked[i] || marked[j]) && mesh_faces_intersect(x, faces[i], faces[j])) found.emplace_back(i, j);
+      },
+      [&](geom_detail::NodePair p) { return node_marked[p.a] || node_marked[p.b]; });
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 }  // namespace
 
 std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> samples, const ExteriorSurface&,
@@ -172,12 +192,15 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
   // The faces' boxes after the flips. A face restored by an undo keeps its flipped box here, so
   // only pairs of two restored faces could be missed, and those were both S's: they cannot meet.
   const Bvh all = build_bvh(x, faces, tree_options);
+  std::vector<char> flipped(faces.size(), 0);
+  for (const Made& m : made) flipped[m.faces[0]] = flipped[m.faces[1]] = 1;
   std::vector<std::uint32_t> check;
-  for (const Made& m : made) check.insert(check.end(), {m.faces[0], m.faces[1]});
   std::size_t undone = 0;
-  while (!check.empty()) {
+  for (bool first = true; first || !check.empty(); first = false) {
     std::set<std::int32_t> undo;
-    for (const auto& [f, g] : meeting_faces(x, faces, check, all, o.threads)) {
+    const auto meeting = first ? meeting_marked_faces(x, faces, flipped, all, o.threads)
+                               : meeting_faces(x, faces, check, all, o.threads);
+    for (const auto& [f, g] : meeting) {
       // A flip's faces meeting S's: that flip goes; two flips' faces meeting: the later one.
       if (const std::int32_t k = std::max(owner[f], owner[g]); k >= 0) undo.insert(k);
     }
