@@ -233,6 +233,45 @@ TEST(GeomCcd, SkippingRestingPairsKeepsEveryPairWithMotion) {
   EXPECT_THROW(fracref::find_step_collisions(s.x0, s.x1, s.triangles, options), fracref::InputError);
 }
 
+// The refiner's rounds: the pairs of every colliding pair are held back (sent to x0) and the step
+// is searched again for pairs with a held vertex. Testing only the first round's examined pairs
+// gives exactly what a full search gives, round after round.
+TEST(GeomCcd, LaterRoundsOnTheExaminedPairsMatchAFullSearch) {
+  // Two sheets 0.5 apart, each vertex thrown up to ~1.5 cells (0.1) in a random direction, B's
+  // towards A: tangled motion whose held-back vertices expose further pairs.
+  auto s = two_sheets({0, 0, 0.2}, {0, 0, -0.2}, 15);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> jitter(-0.1, 0.1);
+  for (std::size_t v = 0; v < s.x0.size(); ++v) s.x1[v] += dvec3(jitter(rng), jitter(rng), jitter(rng));
+  for (std::size_t v = 0; v < s.x0.size(); v += 5) s.x1[v] = s.x0[v];
+  fracref::StepCcdOptions options;
+  options.skip_resting_pairs = true;
+  std::vector<CcdPair> examined;
+  options.examined = &examined;
+  std::vector<CcdPair> pairs = fracref::find_step_collisions(s.x0, s.x1, s.triangles, options);
+  options.examined = nullptr;
+  ASSERT_FALSE(pairs.empty());
+  EXPECT_TRUE(std::is_sorted(examined.begin(), examined.end()));
+  EXPECT_TRUE(std::includes(examined.begin(), examined.end(), pairs.begin(), pairs.end()));
+  EXPECT_GT(examined.size(), pairs.size());
+  std::vector<std::uint8_t> held(s.x0.size(), 0);
+  int rounds = 0;
+  while (!pairs.empty()) {
+    ASSERT_LT(++rounds, 200);
+    std::fill(held.begin(), held.end(), 0);
+    for (const CcdPair& p : pairs)
+      for (std::uint32_t v : p.vertices)
+        if (s.x1[v] != s.x0[v]) s.x1[v] = s.x0[v], held[v] = 1;
+    options.active_vertices = &held;
+    const auto full = fracref::find_step_collisions(s.x0, s.x1, s.triangles, options);
+    options.candidates = &examined;
+    EXPECT_EQ(fracref::find_step_collisions(s.x0, s.x1, s.triangles, options), full) << "round " << rounds;
+    options.candidates = nullptr;
+    pairs = full;
+  }
+  EXPECT_GE(rounds, 2);  // a round after the first found pairs
+}
+
 // Against a static mesh, resting moving-mesh elements and those without an active vertex are
 // left out, the rest found as without the options.
 TEST(GeomCcd, StaticPairsFollowTheActiveVertices) {

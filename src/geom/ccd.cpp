@@ -225,7 +225,7 @@ bool solve(Query& q, const CcdOptions& options, CcdStats* stats) {
     stack.push_back(second);
     stack.push_back(first);
   }
-  if (stats) *stats = {boxes, cap};
+  if (stats) *stats = {boxes, cap, true};
   return collision;
 }
 
@@ -278,7 +278,10 @@ bool ccd_vertex_triangle(const dvec3& p0, const dvec3& a0, const dvec3& b0, cons
                          const dvec3& a1, const dvec3& b1, const dvec3& c1, const double travel[4],
                          const CcdOptions& options, CcdStats* stats) {
   const dvec3 x0[4] = {p0, a0, b0, c0}, x1[4] = {p1, a1, b1, c1};
-  if (far_apart(std::sqrt(closest_point_on_triangle(p0, a0, b0, c0).squared_distance), x0, travel, 1, options)) return false;
+  if (far_apart(std::sqrt(closest_point_on_triangle(p0, a0, b0, c0).squared_distance), x0, travel, 1, options)) {
+    if (stats) *stats = {};
+    return false;
+  }
   Query q = make_query(true, x0, x1, options);
   return solve(q, options, stats);
 }
@@ -287,7 +290,10 @@ bool ccd_edge_edge(const dvec3& a0, const dvec3& b0, const dvec3& c0, const dvec
                    const dvec3& b1, const dvec3& c1, const dvec3& d1, const double travel[4], const CcdOptions& options,
                    CcdStats* stats) {
   const dvec3 x0[4] = {a0, b0, c0, d0}, x1[4] = {a1, b1, c1, d1};
-  if (far_apart(segment_distance(a0, b0, c0, d0), x0, travel, 2, options)) return false;
+  if (far_apart(segment_distance(a0, b0, c0, d0), x0, travel, 2, options)) {
+    if (stats) *stats = {};
+    return false;
+  }
   Query q = make_query(false, x0, x1, options);
   return solve(q, options, stats);
 }

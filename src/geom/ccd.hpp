@@ -40,6 +40,7 @@ struct CcdOptions {
 struct CcdStats {
   int boxes = 0;             ///< parameter boxes examined
   bool hit_cap = false;      ///< stopped at max_iterations
+  bool solved = false;       ///< the distance filter let the query through to the box search
 };
 
 /// Whether point p (p0 -> p1) and triangle (a, b, c) (a0 -> a1, ...) come within
@@ -112,6 +113,14 @@ struct StepCcdOptions {
   /// find_step_collisions only: the mesh's unique edges (a < b), when the caller has them;
   /// null = derived from the triangles. \pre exactly the edges of `triangles`.
   const std::vector<std::array<std::uint32_t, 2>>* edges = nullptr;
+  /// find_step_collisions only: when set, receives (sorted) every pair the narrow phase took
+  /// past its distance filter, colliding or not: with the travels of this step no other pair
+  /// can collide, nor can it after any vertices are sent back to x0.
+  std::vector<CcdPair>* examined = nullptr;
+  /// find_step_collisions only: when set, the broad phase and the distance filter are skipped
+  /// and only these pairs are tested (those with an active vertex, as above). \pre `examined`
+  /// of a call on the same x0 whose x1 differed only where vertices are now back at x0.
+  const std::vector<CcdPair>* candidates = nullptr;
 };
 
 /// All colliding vertex-triangle and edge-edge pairs of a mesh against itself over the step

@@ -188,13 +188,12 @@ struct StepTrees {
 // over all the others would cost more than the tests: instead each of the many boxes is
 // queried against a tree over the few. Calls test(k, j, out) for every overlapping pair of
 // few[k] and many_box(j), j < many.
-template <class ManyBox, class Test>
-std::vector<CcdPair> scan_against(const std::vector<Aabb>& few, std::size_t many, ManyBox many_box, int threads,
-                                  Test test) {
+template <class R, class ManyBox, class Test>
+std::vector<R> scan_against(const std::vector<Aabb>& few, std::size_t many, ManyBox many_box, int threads, Test test) {
   if (few.empty() || many == 0) return {};
   const Bvh tree = build_bvh(few);
   const std::size_t chunks = geom_detail::chunk_count(many);
-  std::vector<std::vector<CcdPair>> parts(chunks);
+  std::vector<std::vector<R>> parts(chunks);
   geom_detail::parallel_chunks(many, chunks, threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
     std::vector<std::uint32_t> hits;
     for (std::size_t j = begin; j < end; ++j) {
@@ -203,54 +202,84 @@ std::vector<CcdPair> scan_against(const std::vector<Aabb>& few, std::size_t many
       for (std::uint32_t k : hits) test(k, std::uint32_t(j), parts[c]);
     }
   });
-  std::vector<CcdPair> out;
+  std::vector<R> out;
   for (auto& part : parts) out.insert(out.end(), part.begin(), part.end());
   return out;
 }
 
-constexpr std::size_t kSparseFactor = 16;  // "few": under 1/16 of the elements take part
+// A pair the narrow phase took past its distance filter, with its answer. Only colliding pairs
+// are kept unless the caller asked for the examined ones (StepCcdOptions::examined).
+struct Examined {
+  CcdPair pair;
+  bool collides = false;
+};
 
-std::vector<CcdPair> vertex_triangle_pairs(const StepTrees& trees, const Tris& tris, const Motion& m,
-                                           const CcdOptions& ccd) {
+// Tests a vertex-triangle pair, recording it as above.
+void test_vertex_triangle(const StepTrees& trees, std::uint32_t v, const std::array<std::uint32_t, 3>& tri,
+                          std::uint32_t t, const CcdOptions& ccd, bool record, std::vector<Examined>& found) {
   const auto& x0 = trees.x0;
   const auto& x1 = trees.x1;
   const auto& r = trees.travel;
-  auto test = [&](std::uint32_t v, std::uint32_t t, std::vector<CcdPair>& found) {
+  const double travel[4] = {r[v], r[tri[0]], r[tri[1]], r[tri[2]]};
+  CcdStats stats;
+  const bool hit = ccd_vertex_triangle(x0[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], x1[v], x1[tri[0]], x1[tri[1]],
+                                       x1[tri[2]], travel, ccd, &stats);
+  if (hit || (record && stats.solved)) found.push_back({vertex_pair(CcdKind::vertex_triangle, v, tri, t), hit});
+}
+
+// Tests an edge-edge pair, e < f, recording it as above.
+void test_edge_edge(const StepTrees& trees, const Edge& e, const Edge& f, const CcdOptions& ccd, bool record,
+                    std::vector<Examined>& found) {
+  const auto& x0 = trees.x0;
+  const auto& x1 = trees.x1;
+  const auto& r = trees.travel;
+  const double travel[4] = {r[e[0]], r[e[1]], r[f[0]], r[f[1]]};
+  CcdStats stats;
+  const bool hit = ccd_edge_edge(x0[e[0]], x0[e[1]], x0[f[0]], x0[f[1]], x1[e[0]], x1[e[1]], x1[f[0]], x1[f[1]], travel,
+                                 ccd, &stats);
+  if (hit || (record && stats.solved))
+    found.push_back({{CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle}, hit});
+}
+
+constexpr std::size_t kSparseFactor = 16;  // "few": under 1/16 of the elements take part
+
+std::vector<Examined> vertex_triangle_pairs(const StepTrees& trees, const Tris& tris, const Motion& m,
+                                            const CcdOptions& ccd, bool record) {
+  const auto& x0 = trees.x0;
+  const auto& x1 = trees.x1;
+  auto test = [&](std::uint32_t v, std::uint32_t t, std::vector<Examined>& found) {
     const auto& tri = tris[t];
     if (tri[0] == v || tri[1] == v || tri[2] == v) return;
-    const double travel[4] = {r[v], r[tri[0]], r[tri[1]], r[tri[2]]};
-    if (ccd_vertex_triangle(x0[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], x1[v], x1[tri[0]], x1[tri[1]], x1[tri[2]], travel,
-                            ccd))
-      found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
+    test_vertex_triangle(trees, v, tri, t, ccd, record, found);
   };
   const std::size_t used = m.moving_vertices.size() + m.resting_vertices.size();
   if (m.moving_vertices.size() * kSparseFactor < used) {
     std::vector<Aabb> few(m.moving_vertices.size());
     for (std::size_t k = 0; k < few.size(); ++k) few[k] = swept_box(x0, x1, std::array<std::uint32_t, 1>{m.moving_vertices[k]}, 0.0);
-    auto out = scan_against(few, tris.size(), [&](std::size_t t) { return swept_box(x0, x1, tris[t], trees.grow); },
-                            trees.threads, [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
+    auto out = scan_against<Examined>(few, tris.size(), [&](std::size_t t) { return swept_box(x0, x1, tris[t], trees.grow); },
+                            trees.threads, [&](std::uint32_t k, std::uint32_t t, std::vector<Examined>& found) {
                               test(m.moving_vertices[k], t, found);
                             });
     std::vector<Aabb> few_tris(m.moving_triangles.size());
     for (std::size_t k = 0; k < few_tris.size(); ++k) few_tris[k] = swept_box(x0, x1, tris[m.moving_triangles[k]], trees.grow);
-    auto rest = scan_against(
+    auto rest = scan_against<Examined>(
         few_tris, m.resting_vertices.size(),
         [&](std::size_t j) { return swept_box(x0, x1, std::array<std::uint32_t, 1>{m.resting_vertices[j]}, 0.0); },
-        trees.threads, [&](std::uint32_t k, std::uint32_t j, std::vector<CcdPair>& found) {
+        trees.threads, [&](std::uint32_t k, std::uint32_t j, std::vector<Examined>& found) {
           test(m.resting_vertices[j], m.moving_triangles[k], found);
         });
     out.insert(out.end(), rest.begin(), rest.end());
     return out;
   }
   const Bvh tri_tree = trees.build(tris, nullptr, trees.grow);
-  auto out = collect_overlaps<CcdPair>(trees.vertices(m.moving_vertices), tri_tree, false, trees.threads,
-                                       [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
+  auto out = collect_overlaps<Examined>(trees.vertices(m.moving_vertices), tri_tree, false, trees.threads,
+                                        [&](std::uint32_t k, std::uint32_t t, std::vector<Examined>& found) {
                                          test(m.moving_vertices[k], t, found);
                                        });
   if (m.resting_vertices.empty() || m.moving_triangles.empty()) return out;
-  auto rest = collect_overlaps<CcdPair>(trees.vertices(m.resting_vertices), trees.build(tris, &m.moving_triangles, trees.grow),
-                                        false, trees.threads,
-                                        [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
+  auto rest = collect_overlaps<Examined>(trees.vertices(m.resting_vertices), trees.build(tris, &m.moving_triangles, trees.grow),
+                                         false, trees.threads,
+                                         [&](std::uint32_t k, std::uint32_t t, std::vector<Examined>& found) {
                                           test(m.resting_vertices[k], m.moving_triangles[t], found);
                                         });
   out.insert(out.end(), rest.begin(), rest.end());
@@ -258,18 +287,15 @@ std::vector<CcdPair> vertex_triangle_pairs(const StepTrees& trees, const Tris& t
 }
 
 // Both sides grown by half the distance: boxes of edges closer than min_distance overlap.
-std::vector<CcdPair> edge_edge_pairs(const StepTrees& trees, const std::vector<Edge>& edges, const Motion& m,
-                                     const CcdOptions& ccd) {
+std::vector<Examined> edge_edge_pairs(const StepTrees& trees, const std::vector<Edge>& edges, const Motion& m,
+                                      const CcdOptions& ccd, bool record) {
   const auto& x0 = trees.x0;
   const auto& x1 = trees.x1;
-  const auto& r = trees.travel;
-  auto test = [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
+  auto test = [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
     Edge e = edges[i], f = edges[j];
     if (shares_vertex(e, f)) return;
     if (f < e) std::swap(e, f);
-    const double travel[4] = {r[e[0]], r[e[1]], r[f[0]], r[f[1]]};
-    if (ccd_edge_edge(x0[e[0]], x0[e[1]], x0[f[0]], x0[f[1]], x1[e[0]], x1[e[1]], x1[f[0]], x1[f[1]], travel, ccd))
-      found.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});
+    test_edge_edge(trees, e, f, ccd, record, found);
   };
   if (m.moving_edges.size() * kSparseFactor < edges.size()) {
     std::vector<char> moves(edges.size(), 0);
@@ -279,24 +305,46 @@ std::vector<CcdPair> edge_edge_pairs(const StepTrees& trees, const std::vector<E
       few[k] = swept_box(x0, x1, edges[m.moving_edges[k]], 0.5 * trees.grow);
     }
     // A pair of two moving edges is met from both sides: kept once, from its smaller id.
-    return scan_against(few, edges.size(), [&](std::size_t j) { return swept_box(x0, x1, edges[j], 0.5 * trees.grow); },
-                        trees.threads, [&](std::uint32_t k, std::uint32_t j, std::vector<CcdPair>& found) {
+    return scan_against<Examined>(few, edges.size(), [&](std::size_t j) { return swept_box(x0, x1, edges[j], 0.5 * trees.grow); },
+                        trees.threads, [&](std::uint32_t k, std::uint32_t j, std::vector<Examined>& found) {
                           const std::uint32_t i = m.moving_edges[k];
                           if (i == j || (moves[j] && j < i)) return;
                           test(i, j, found);
                         });
   }
   const Bvh moving = trees.build(edges, &m.moving_edges, 0.5 * trees.grow);
-  auto out = collect_overlaps<CcdPair>(moving, moving, true, trees.threads,
-                                       [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
+  auto out = collect_overlaps<Examined>(moving, moving, true, trees.threads,
+                                        [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
                                          test(m.moving_edges[i], m.moving_edges[j], found);
                                        });
   if (m.resting_edges.empty() || m.moving_edges.empty()) return out;
-  auto rest = collect_overlaps<CcdPair>(moving, trees.build(edges, &m.resting_edges, 0.5 * trees.grow), false,
-                                        trees.threads, [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
+  auto rest = collect_overlaps<Examined>(moving, trees.build(edges, &m.resting_edges, 0.5 * trees.grow), false,
+                                         trees.threads, [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
                                           test(m.moving_edges[i], m.resting_edges[j], found);
                                         });
   out.insert(out.end(), rest.begin(), rest.end());
+  return out;
+}
+
+// The pairs of `candidates` with an active vertex whose swept boxes overlap (as the broad phase
+// would have found them), tested as above.
+std::vector<Examined> candidate_pairs(const StepTrees& trees, const std::vector<CcdPair>& candidates,
+                                      const StepCcdOptions& o) {
+  std::vector<Examined> out;
+  for (const CcdPair& c : candidates) {
+    const auto& v = c.vertices;
+    if (!std::any_of(v.begin(), v.end(), [&](std::uint32_t k) { return is_active(trees.x0, trees.x1, o, k); })) continue;
+    if (c.kind == CcdKind::edge_edge) {
+      const Edge e{v[0], v[1]}, f{v[2], v[3]};
+      if (swept_box(trees.x0, trees.x1, e, 0.5 * trees.grow).overlaps(swept_box(trees.x0, trees.x1, f, 0.5 * trees.grow)))
+        test_edge_edge(trees, e, f, o.ccd, false, out);
+      continue;
+    }
+    const std::array<std::uint32_t, 3> tri{v[1], v[2], v[3]};
+    if (swept_box(trees.x0, trees.x1, std::array<std::uint32_t, 1>{v[0]}, 0.0)
+            .overlaps(swept_box(trees.x0, trees.x1, tri, trees.grow)))
+      test_vertex_triangle(trees, v[0], tri, c.triangle, o.ccd, false, out);
+  }
   return out;
 }
 
@@ -313,11 +361,25 @@ std::vector<CcdPair> find_step_collisions(const std::vector<dvec3>& x0, const st
   const std::vector<Edge> own_edges = options.edges ? std::vector<Edge>() : unique_edges(triangles);
   const std::vector<Edge>& edges = options.edges ? *options.edges : own_edges;
   check_flags(options.active_vertices, x0.size(), "active-vertex");
-  const Motion motion = classify_motion(x0, x1, triangles, edges, options);
-  StepTrees trees{x0, x1, travels(x0, x1), std::max(0.0, options.ccd.min_distance), options.threads};
-  std::vector<CcdPair> out = vertex_triangle_pairs(trees, triangles, motion, options.ccd);
-  std::vector<CcdPair> ee = edge_edge_pairs(trees, edges, motion, options.ccd);
-  out.insert(out.end(), ee.begin(), ee.end());
+  const std::vector<double> travel = travels(x0, x1);
+  StepTrees trees{x0, x1, travel, std::max(0.0, options.ccd.min_distance), options.threads};
+  std::vector<Examined> found;
+  if (options.candidates) {
+    found = candidate_pairs(trees, *options.candidates, options);
+  } else {
+    const Motion motion = classify_motion(x0, x1, triangles, edges, options);
+    const bool record = options.examined != nullptr;
+    found = vertex_triangle_pairs(trees, triangles, motion, options.ccd, record);
+    std::vector<Examined> ee = edge_edge_pairs(trees, edges, motion, options.ccd, record);
+    found.insert(found.end(), ee.begin(), ee.end());
+  }
+  std::vector<CcdPair> out;
+  if (options.examined) options.examined->clear();
+  for (const Examined& e : found) {
+    if (e.collides) out.push_back(e.pair);
+    if (options.examined) options.examined->push_back(e.pair);
+  }
+  if (options.examined) std::sort(options.examined->begin(), options.examined->end());
   std::sort(out.begin(), out.end());
   return out;
 }

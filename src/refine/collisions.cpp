@@ -186,13 +186,20 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
   // Each round resets every vertex of every colliding pair; the moving set shrinks strictly, so
   // the loop ends. After the first round only pairs with a vertex reset in the round before
   // can have changed, so only those are tested again.
+  // The pairs the first round examined are all that later rounds can find (holding vertices back
+  // only shrinks the motion), so later rounds test those instead of searching S again.
   std::vector<std::uint8_t> reset_now(x1.size(), 0);
+  std::vector<CcdPair> examined;
   for (int round = 0;; ++round) {
     opts.active_vertices = round > 0 ? &reset_now : nullptr;
     std::vector<glm::dvec3> p1 = to_double(x1);
     opts.edges = &edges;
+    opts.examined = round == 0 ? &examined : nullptr;
+    opts.candidates = round > 0 ? &examined : nullptr;
     std::vector<CcdPair> pairs = find_step_collisions(p0, p1, tris, opts);
     opts.edges = nullptr;
+    opts.examined = nullptr;
+    opts.candidates = nullptr;
     // Against B, a virtual rim vertex is active when a corner of its face is.
     std::vector<std::uint8_t> reset_rim;
     if (round > 0) {
