@@ -92,7 +92,8 @@ void traverse_from(const Bvh& a, const Bvh& b, bool self, NodePair start, Visit&
 /// node pairs (a's node, b's node) for which keep returns false are not looked into: pairs of
 /// items under them are skipped.
 template <class R, class Test, class Keep = geom_detail::AnyNodePair>
-std::vector<R> collect_overlaps(const Bvh& a, const Bvh& b, bool self, int threads, Test&& test, const Keep& keep = {}) {
+std::vector<R> collect_overlaps(const Bvh& a, const Bvh& b, bool self, int threads, Test&& test,
+                                const Keep& keep = {}) {
   using geom_detail::NodePair;
   if (a.nodes.empty() || b.nodes.empty()) return {};
   // Breadth-first expansion of the root pair into enough tasks for load balance.

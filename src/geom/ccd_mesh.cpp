@@ -256,32 +256,31 @@ std::vector<Examined> vertex_triangle_pairs(const StepTrees& trees, const Tris& 
   if (m.moving_vertices.size() * kSparseFactor < used) {
     std::vector<Aabb> few(m.moving_vertices.size());
     for (std::size_t k = 0; k < few.size(); ++k) few[k] = swept_box(x0, x1, std::array<std::uint32_t, 1>{m.moving_vertices[k]}, 0.0);
-    auto out = scan_against<Examined>(few, tris.size(), [&](std::size_t t) { return swept_box(x0, x1, tris[t], trees.grow); },
-                            trees.threads, [&](std::uint32_t k, std::uint32_t t, std::vector<Examined>& found) {
-                              test(m.moving_vertices[k], t, found);
-                            });
+    auto out = scan_against<Examined>(
+        few, tris.size(), [&](std::size_t t) { return swept_box(x0, x1, tris[t], trees.grow); }, trees.threads,
+        [&](std::uint32_t k, std::uint32_t t, std::vector<Examined>& found) { test(m.moving_vertices[k], t, found); });
     std::vector<Aabb> few_tris(m.moving_triangles.size());
     for (std::size_t k = 0; k < few_tris.size(); ++k) few_tris[k] = swept_box(x0, x1, tris[m.moving_triangles[k]], trees.grow);
     auto rest = scan_against<Examined>(
         few_tris, m.resting_vertices.size(),
         [&](std::size_t j) { return swept_box(x0, x1, std::array<std::uint32_t, 1>{m.resting_vertices[j]}, 0.0); },
-        trees.threads, [&](std::uint32_t k, std::uint32_t j, std::vector<Examined>& found) {
+        trees.threads,
+        [&](std::uint32_t k, std::uint32_t j, std::vector<Examined>& found) {
           test(m.resting_vertices[j], m.moving_triangles[k], found);
         });
     out.insert(out.end(), rest.begin(), rest.end());
     return out;
   }
   const Bvh tri_tree = trees.build(tris, nullptr, trees.grow);
-  auto out = collect_overlaps<Examined>(trees.vertices(m.moving_vertices), tri_tree, false, trees.threads,
-                                        [&](std::uint32_t k, std::uint32_t t, std::vector<Examined>& found) {
-                                         test(m.moving_vertices[k], t, found);
-                                       });
+  auto out = collect_overlaps<Examined>(
+      trees.vertices(m.moving_vertices), tri_tree, false, trees.threads,
+      [&](std::uint32_t k, std::uint32_t t, std::vector<Examined>& found) { test(m.moving_vertices[k], t, found); });
   if (m.resting_vertices.empty() || m.moving_triangles.empty()) return out;
-  auto rest = collect_overlaps<Examined>(trees.vertices(m.resting_vertices), trees.build(tris, &m.moving_triangles, trees.grow),
-                                         false, trees.threads,
+  auto rest = collect_overlaps<Examined>(trees.vertices(m.resting_vertices),
+                                         trees.build(tris, &m.moving_triangles, trees.grow), false, trees.threads,
                                          [&](std::uint32_t k, std::uint32_t t, std::vector<Examined>& found) {
-                                          test(m.resting_vertices[k], m.moving_triangles[t], found);
-                                        });
+                                           test(m.resting_vertices[k], m.moving_triangles[t], found);
+                                         });
   out.insert(out.end(), rest.begin(), rest.end());
   return out;
 }
@@ -305,23 +304,25 @@ std::vector<Examined> edge_edge_pairs(const StepTrees& trees, const std::vector<
       few[k] = swept_box(x0, x1, edges[m.moving_edges[k]], 0.5 * trees.grow);
     }
     // A pair of two moving edges is met from both sides: kept once, from its smaller id.
-    return scan_against<Examined>(few, edges.size(), [&](std::size_t j) { return swept_box(x0, x1, edges[j], 0.5 * trees.grow); },
-                        trees.threads, [&](std::uint32_t k, std::uint32_t j, std::vector<Examined>& found) {
-                          const std::uint32_t i = m.moving_edges[k];
-                          if (i == j || (moves[j] && j < i)) return;
-                          test(i, j, found);
-                        });
+    return scan_against<Examined>(
+        few, edges.size(), [&](std::size_t j) { return swept_box(x0, x1, edges[j], 0.5 * trees.grow); }, trees.threads,
+        [&](std::uint32_t k, std::uint32_t j, std::vector<Examined>& found) {
+          const std::uint32_t i = m.moving_edges[k];
+          if (i == j || (moves[j] && j < i)) return;
+          test(i, j, found);
+        });
   }
   const Bvh moving = trees.build(edges, &m.moving_edges, 0.5 * trees.grow);
   auto out = collect_overlaps<Examined>(moving, moving, true, trees.threads,
                                         [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
-                                         test(m.moving_edges[i], m.moving_edges[j], found);
-                                       });
-  if (m.resting_edges.empty() || m.moving_edges.empty()) return out;
-  auto rest = collect_overlaps<Examined>(moving, trees.build(edges, &m.resting_edges, 0.5 * trees.grow), false,
-                                         trees.threads, [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
-                                          test(m.moving_edges[i], m.resting_edges[j], found);
+                                          test(m.moving_edges[i], m.moving_edges[j], found);
                                         });
+  if (m.resting_edges.empty() || m.moving_edges.empty()) return out;
+  auto rest =
+      collect_overlaps<Examined>(moving, trees.build(edges, &m.resting_edges, 0.5 * trees.grow), false, trees.threads,
+                                 [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
+                                   test(m.moving_edges[i], m.resting_edges[j], found);
+                                 });
   out.insert(out.end(), rest.begin(), rest.end());
   return out;
 }
@@ -329,21 +330,23 @@ std::vector<Examined> edge_edge_pairs(const StepTrees& trees, const std::vector<
 // The pairs of `candidates` with an active vertex whose swept boxes overlap (as the broad phase
 // would have found them), tested as above.
 std::vector<Examined> candidate_pairs(const StepTrees& trees, const std::vector<CcdPair>& candidates,
-                                      const StepCcdOptions& o) {
+                                      const StepCcdOptions& o, bool record) {
   std::vector<Examined> out;
   for (const CcdPair& c : candidates) {
     const auto& v = c.vertices;
-    if (!std::any_of(v.begin(), v.end(), [&](std::uint32_t k) { return is_active(trees.x0, trees.x1, o, k); })) continue;
+    if (!std::any_of(v.begin(), v.end(), [&](std::uint32_t k) { return is_active(trees.x0, trees.x1, o, k); }))
+      continue;
     if (c.kind == CcdKind::edge_edge) {
       const Edge e{v[0], v[1]}, f{v[2], v[3]};
-      if (swept_box(trees.x0, trees.x1, e, 0.5 * trees.grow).overlaps(swept_box(trees.x0, trees.x1, f, 0.5 * trees.grow)))
-        test_edge_edge(trees, e, f, o.ccd, false, out);
+      if (swept_box(trees.x0, trees.x1, e, 0.5 * trees.grow)
+              .overlaps(swept_box(trees.x0, trees.x1, f, 0.5 * trees.grow)))
+        test_edge_edge(trees, e, f, o.ccd, record, out);
       continue;
     }
     const std::array<std::uint32_t, 3> tri{v[1], v[2], v[3]};
     if (swept_box(trees.x0, trees.x1, std::array<std::uint32_t, 1>{v[0]}, 0.0)
             .overlaps(swept_box(trees.x0, trees.x1, tri, trees.grow)))
-      test_vertex_triangle(trees, v[0], tri, c.triangle, o.ccd, false, out);
+      test_vertex_triangle(trees, v[0], tri, c.triangle, o.ccd, record, out);
   }
   return out;
 }
@@ -363,12 +366,12 @@ std::vector<CcdPair> find_step_collisions(const std::vector<dvec3>& x0, const st
   check_flags(options.active_vertices, x0.size(), "active-vertex");
   const std::vector<double> travel = travels(x0, x1);
   StepTrees trees{x0, x1, travel, std::max(0.0, options.ccd.min_distance), options.threads};
+  const bool record = options.examined != nullptr;
   std::vector<Examined> found;
   if (options.candidates) {
-    found = candidate_pairs(trees, *options.candidates, options);
+    found = candidate_pairs(trees, *options.candidates, options, record);
   } else {
     const Motion motion = classify_motion(x0, x1, triangles, edges, options);
-    const bool record = options.examined != nullptr;
     found = vertex_triangle_pairs(trees, triangles, motion, options.ccd, record);
     std::vector<Examined> ee = edge_edge_pairs(trees, edges, motion, options.ccd, record);
     found.insert(found.end(), ee.begin(), ee.end());

@@ -59,10 +59,11 @@ std::size_t keep_inside(const FractureSurface& s, const ExteriorSurface& b, cons
   c.resize(x1.size(), -1.0f);
   const std::size_t chunks = geom_detail::chunk_count(x1.size(), 2048);
   std::vector<std::size_t> reset(chunks, 0);
-  geom_detail::parallel_chunks(x1.size(), chunks, kInsideThreads, [&](std::size_t k, std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i)
-      if (!(s.vertex_flags[i] & kVertexBoundary) && keep_vertex_inside(b, x0[i], x1[i], c[i])) ++reset[k];
-  });
+  geom_detail::parallel_chunks(
+      x1.size(), chunks, kInsideThreads, [&](std::size_t k, std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i)
+          if (!(s.vertex_flags[i] & kVertexBoundary) && keep_vertex_inside(b, x0[i], x1[i], c[i])) ++reset[k];
+      });
   return std::accumulate(reset.begin(), reset.end(), std::size_t(0));
 }
 
