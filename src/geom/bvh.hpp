@@ -58,8 +58,8 @@ struct BvhOptions {
 /// code of their box centre on a cube grid of 1024 cells a side over the centres' bounds (ties by
 /// id), each node split where the highest bit differing within its range of codes turns from 0
 /// to 1 (a spatial median, longest axis first), at the middle of the range when all codes are
-/// equal. Deterministic; the
-/// same tree (up to node numbering) for any thread count. O(n) after a radix sort.
+/// equal. Deterministic; the same tree (up to node numbering) for any thread count. O(n) after
+/// a radix sort.
 /// \pre finite boxes.
 Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options = {});
 

@@ -361,8 +361,6 @@ std::vector<CcdPair> find_step_collisions(const std::vector<dvec3>& x0, const st
   check_positions(x0, "start");
   check_positions(x1, "end");
   check_triangles(triangles, x0.size(), "mesh");
-  const std::vector<Edge> own_edges = options.edges ? std::vector<Edge>() : unique_edges(triangles);
-  const std::vector<Edge>& edges = options.edges ? *options.edges : own_edges;
   check_flags(options.active_vertices, x0.size(), "active-vertex");
   const std::vector<double> travel = travels(x0, x1);
   StepTrees trees{x0, x1, travel, std::max(0.0, options.ccd.min_distance), options.threads};
@@ -371,6 +369,8 @@ std::vector<CcdPair> find_step_collisions(const std::vector<dvec3>& x0, const st
   if (options.candidates) {
     found = candidate_pairs(trees, *options.candidates, options, record);
   } else {
+    const std::vector<Edge> own_edges = options.edges ? std::vector<Edge>() : unique_edges(triangles);
+    const std::vector<Edge>& edges = options.edges ? *options.edges : own_edges;
     const Motion motion = classify_motion(x0, x1, triangles, edges, options);
     found = vertex_triangle_pairs(trees, triangles, motion, options.ccd, record);
     std::vector<Examined> ee = edge_edge_pairs(trees, edges, motion, options.ccd, record);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <utility>
 
-
 namespace fracref {
 
 FaceGuard::FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces, int threads)

@@ -116,7 +116,7 @@ RimFaces rim_faces(const FractureSurface& s, const std::vector<glm::vec4>& x0, c
   for (std::uint32_t f = 0; f < s.faces.size(); ++f) {
     const glm::uvec4 g = s.faces[f];
     if (x0[g.x] == x1[g.x] && x0[g.y] == x1[g.y] && x0[g.z] == x1[g.z]) continue;
-    std::array<std::uint32_t, 3> t = {s.faces[f].x, s.faces[f].y, s.faces[f].z};
+    std::array<std::uint32_t, 3> t = {g.x, g.y, g.z};
     bool any = false;
     for (int k = 0; k < 3; ++k) {
       if (!(s.vertex_flags[t[k]] & kVertexBoundary)) continue;
@@ -185,10 +185,9 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
   drop_crossing_rim_faces(rim, p0_rim, b);
   near_b.insert(near_b.end(), rim.triangles.begin(), rim.triangles.end());
   // Each round resets every vertex of every colliding pair; the moving set shrinks strictly, so
-  // the loop ends. After the first round only pairs with a vertex reset in the round before
-  // can have changed, so only those are tested again.
-  // The pairs the first round examined are all that later rounds can find (holding vertices back
-  // only shrinks the motion), so later rounds test those instead of searching S again.
+  // the loop ends. After the first round only pairs with a vertex reset in the round before can
+  // have changed, and only among the pairs the first round examined (holding vertices back only
+  // shrinks the motion): later rounds test those instead of searching S again.
   std::vector<std::uint8_t> reset_now(x1.size(), 0);
   std::vector<CcdPair> examined;
   for (int round = 0;; ++round) {
