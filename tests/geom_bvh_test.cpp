@@ -92,7 +92,9 @@ TEST(GeomBvh, PairsTouchingMarkedItemsMatchBruteForce) {
         [&](fracref::geom_detail::NodePair p) { return nodes[p.a] || nodes[p.b]; });
     std::sort(found.begin(), found.end());
     EXPECT_EQ(found, expected);
-    if (threads == 1) EXPECT_LT(visited, fracref::self_overlapping_pairs(t, 1).size());  // unmarked subtrees skipped
+    if (threads == 1) {
+      EXPECT_LT(visited, fracref::self_overlapping_pairs(t, 1).size());  // unmarked subtrees skipped
+    }
   }
 }
 

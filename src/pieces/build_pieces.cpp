@@ -7,6 +7,7 @@
 
 #include "pieces/pieces.hpp"
 #include "pieces/pieces_internal.hpp"
+#include "pieces/retries.hpp"
 #include "util/error.hpp"
 
 namespace fracref {
@@ -22,17 +23,9 @@ constexpr std::size_t kMaxAttempts = 64;
 constexpr double kPokeTolerance = 1e-6;
 // A vertex is pushed inward at most this fraction of its shortest edge, in this many rounds.
 constexpr double kMaxPush = 1.0;
-constexpr double kPushFactor = 1.25;
-constexpr std::size_t kMaxPushRounds = 8;
-// A push that did not take a vertex's poke at least this much shallower will not: the poke is
-// not this vertex's to fix by moving (on the bunny such pokes grew with every push, for 6 rounds
-// of rebuilds until kMaxPushRounds), so the vertex is contracted at once instead.
-constexpr double kFutilePush = 0.75;
 // A fracture triangle crossing a B triangle pushes its S vertices off B this fraction of their
-// shortest edge per attempt; one crossing another fracture triangle relaxes its S vertices off
-// B this much further toward their neighbours' centroid (up to all the way).
+// shortest edge per attempt (one crossing another fracture triangle: see kRelaxStep).
 constexpr double kClashPush = 0.1;
-constexpr double kRelaxStep = 0.25;
 
 std::string vertex_pair(std::uint32_t a, std::uint32_t b) { return std::to_string(a) + "-" + std::to_string(b); }
 
@@ -50,191 +43,6 @@ FractureSurface checked(const FractureSurface& s) {
   if (!problem.empty()) throw RunError("the fracture surface is not valid: " + problem);
   return copy;
 }
-
-// The faces of S whose fracture polygons cannot be triangulated (all of them in one build, so
-// that one retry deals with them all). build_pieces starts again with each face left out when it
-// has two or three boundary edges (a flap: all its corners lie on B), or with its boundary edge
-// traced along the face's normal when it has one.
-struct UntriangulatedFaces : RunError {
-  struct Face {
-    std::string what;
-    std::uint32_t face;
-    bool flap;
-    glm::uvec2 boundary_edge;  // S vertices of its boundary edge (one boundary side)
-  };
-  explicit UntriangulatedFaces(std::vector<Face> all) : RunError(all.front().what), faces(std::move(all)) {}
-  std::vector<Face> faces;
-};
-
-// Fracture triangles poking out of B: build_pieces starts again with their S vertices off B
-// pushed inward, a quarter farther than each alone would have to go to take the deepest poke
-// back (a vertex at most its shortest edge in all, over kMaxPushRounds rounds).
-struct PokingOut : RunError {
-  struct Vertex {
-    double depth, limit;
-    glm::dvec3 at;
-    std::vector<std::uint32_t> neighbours;  // its neighbours in S, nearest first
-    glm::dvec3 direction{0.0};  // which way to push (see Push)
-  };
-  explicit PokingOut(std::map<std::uint32_t, Vertex> v) : RunError("poking out"), vertices(std::move(v)) {}
-  std::map<std::uint32_t, Vertex> vertices;
-
-  // The deepest poke, for a message.
-  std::string describe() const {
-    const auto deepest = std::max_element(vertices.begin(), vertices.end(),
-                                          [](const auto& a, const auto& b) { return a.second.depth < b.second.depth; });
-    return "the faces of fracture surface vertex " + std::to_string(deepest->first) + " at " +
-           format_point(deepest->second.at) + " poke out of the exterior by " + std::to_string(deepest->second.depth) +
-           (vertices.size() > 1 ? " (the faces of " + std::to_string(vertices.size() - 1) + " more vertices poke out less)" : "");
-  }
-};
-
-// Fracture triangles crossing each other once the rim's traces bent them toward B (a pleat of
-// S, a few tiny faces folded onto each other next to the rim): build_pieces starts again with
-// the shortest edge at these S vertices contracted, or when none is left, the vertices relaxed
-// toward their neighbours.
-struct Folded : RunError {
-  struct Vertex {
-    glm::dvec3 at;
-    std::uint32_t nearest;  // the neighbour at its shortest edge
-    double shortest;
-  };
-  Folded(std::string what, std::map<std::uint32_t, Vertex> v) : RunError(std::move(what)), vertices(std::move(v)) {}
-  std::map<std::uint32_t, Vertex> vertices;
-};
-
-// What build_pieces changes between attempts (faces in input numbering).
-struct Retries {
-  std::vector<std::uint32_t> left_out;  // flaps to leave out
-  // Faces whose boundary edge is traced along their normal -> the push round it was decided in.
-  std::map<std::uint32_t, std::size_t> along_normal;
-  std::map<std::uint32_t, Push> pushed;  // S vertex -> how far (and which way) it is pushed into B
-  std::map<std::uint32_t, double> relaxed;  // S vertex -> fraction of the way to its neighbours
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> contractions;  // S edges (gone, keep)
-  std::size_t push_rounds = 0, attempts = 0;
-
-  // After faces could not be triangulated; false (why: the face's message) when nothing is left
-  // to try for one of them.
-  bool next(const UntriangulatedFaces& failed, std::string& why) {
-    for (const auto& face : failed.faces)
-      if (!next(face)) {
-        why = face.what;
-        return false;
-      }
-    return true;
-  }
-
-  bool next(const UntriangulatedFaces::Face& failed) {
-    if (failed.flap) {
-      if (std::count(left_out.begin(), left_out.end(), failed.face)) return false;
-      left_out.push_back(failed.face);
-      return true;
-    }
-    const auto it = along_normal.find(failed.face);
-    if (it == along_normal.end()) {
-      along_normal.emplace(failed.face, push_rounds);
-      return true;
-    }
-    if (it->second != push_rounds) {
-      along_normal.erase(it);  // S was pushed since: the usual plane may do now
-      return true;
-    }
-    // Neither plane works (the face stands at a slant to a curved B): its boundary edge is
-    // contracted, the face with it.
-    for (const auto& c :
-         {std::pair{failed.boundary_edge.y, failed.boundary_edge.x}, std::pair{failed.boundary_edge.x, failed.boundary_edge.y}})
-      if (!std::count(contractions.begin(), contractions.end(), c)) {
-        contractions.push_back(c);
-        return true;
-      }
-    return false;
-  }
-
-  // After fracture triangles poked out of B; false when a vertex would go too far.
-  bool next(const PokingOut& poking, std::string& why) {
-    for (const auto& [v, p] : poking.vertices) {
-      Push& push = pushed[v];
-      const bool futile = push.distance > 0.0 && p.depth >= kFutilePush * push.last_depth;
-      push.distance += kPushFactor * p.depth;
-      push.direction = p.direction;
-      push.last_depth = p.depth;
-      if (!futile && push.distance <= p.limit && push_rounds < kMaxPushRounds) continue;
-      // Pushed as far as it may go: the vertex is contracted into its nearest neighbour instead
-      // (a sliver of S sticking out), or, when that was tried, into the next nearest.
-      const auto untried = std::find_if(p.neighbours.begin(), p.neighbours.end(), [&](std::uint32_t w) {
-        return !std::count(contractions.begin(), contractions.end(), std::pair{v, w});
-      });
-      if (untried == p.neighbours.end()) {
-        why = "the faces of fracture surface vertex " + std::to_string(v) + " at " + format_point(p.at) +
-              " poke out of the exterior by " + std::to_string(p.depth) +
-              " (the fracture surface crosses the exterior near its rim), still after pushing it inward";
-        return false;
-      }
-      contractions.emplace_back(v, *untried);
-      pushed.erase(v);
-    }
-    ++push_rounds;
-    return true;
-  }
-
-  // After the traces of two S boundary edges crossed: the vertex they share (a zigzag of the
-  // rim) is contracted into a neighbour on the rim, else an end of one edge into the other (the
-  // shorter edge first; a trace crossing itself, its edge); false when every such contraction
-  // was tried before.
-  bool next(const TracesCross& crossed, const std::vector<glm::dvec3>& x) {
-    std::set<std::uint32_t> moved;  // one contraction per rim vertex and attempt
-    bool added = false;
-    for (const auto& [a, b] : crossed.pairs) {
-      // Candidates in order: the shared vertex into its nearer, then its farther neighbour (a
-      // zigzag), else either end of the shorter edge, then of the longer one.
-      std::vector<std::pair<std::uint32_t, std::uint32_t>> options;
-      if (a == b) {  // one trace crossing itself: the edge goes
-        options = {{a.y, a.x}, {a.x, a.y}};
-      } else if (a.x == b.x || a.x == b.y || a.y == b.x || a.y == b.y) {
-        const std::uint32_t v = (a.x == b.x || a.x == b.y) ? a.x : a.y;
-        std::uint32_t p = a.x == v ? a.y : a.x, q = b.x == v ? b.y : b.x;
-        if (glm::length(x[q] - x[v]) < glm::length(x[p] - x[v])) std::swap(p, q);
-        options = {{v, p}, {v, q}};
-      } else {
-        const bool a_shorter = glm::length(x[a.x] - x[a.y]) <= glm::length(x[b.x] - x[b.y]);
-        const glm::uvec2 e = a_shorter ? a : b, f = a_shorter ? b : a;
-        options = {{e.y, e.x}, {e.x, e.y}, {f.y, f.x}, {f.x, f.y}};
-      }
-      for (const auto& c : options) {
-        if (moved.count(c.first) || moved.count(c.second) || std::count(contractions.begin(), contractions.end(), c)) continue;
-        contractions.push_back(c);
-        moved.insert(c.first), moved.insert(c.second);
-        added = true;
-        break;
-      }
-    }
-    return added;
-  }
-
-  // After fracture triangles crossed each other; false when a vertex is relaxed all the way.
-  bool next(const Folded& folded, std::string& why) {
-    std::set<std::uint32_t> gone;
-    for (const auto& c : contractions) gone.insert(c.first);
-    const Folded::Vertex* best = nullptr;
-    std::uint32_t best_v = 0;
-    for (const auto& [v, p] : folded.vertices)
-      if (!gone.count(v) && !gone.count(p.nearest) && (!best || p.shortest < best->shortest)) best = &p, best_v = v;
-    if (best) {
-      contractions.emplace_back(best_v, best->nearest);
-      return true;
-    }
-    for (const auto& [v, p] : folded.vertices) {
-      double& fraction = relaxed[v];
-      if (fraction >= 1.0) {
-        why = std::string(folded.what()) + "; still after moving fracture surface vertex " + std::to_string(v) + " at " +
-              format_point(p.at) + " to the centroid of its neighbours";
-        return false;
-      }
-      fraction = std::min(1.0, fraction + kRelaxStep);
-    }
-    return true;
-  }
-};
 
 // S after repair_boundary with the retries' flaps and contractions. Most retries change
 // neither (they push vertices), and the repair costs as much as the rest of an attempt on a large
