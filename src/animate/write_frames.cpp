@@ -6,7 +6,7 @@
 
 #include "animate/animate.hpp"
 #include "animate/animate_internal.hpp"
-#include "geom/parallel.hpp"
+#include "util/parallel.hpp"
 #include "util/atomic_output.hpp"
 #include "util/error.hpp"
 
@@ -105,7 +105,7 @@ void write_all(const PieceSet& pieces, const PieceLayout& layout, std::size_t fr
   for (std::size_t t = 0; t < frame_count; t += 2) {
     const std::size_t n = std::min<std::size_t>(2, frame_count - t);
     std::string text[2];
-    geom_detail::parallel_chunks(n, n, 2, [&](std::size_t c, std::size_t, std::size_t) { text[c] = text_of(t + c); });
+    parallel_chunks(n, n, 2, [&](std::size_t c, std::size_t, std::size_t) { text[c] = text_of(t + c); });
     for (std::size_t c = 0; c < n; ++c) write_file_atomic(dir / numbered("frame_%04zu.obj", t + c), text[c]);
   }
   write_file_atomic(dir / "frames.mtl", material_text());

@@ -9,6 +9,7 @@
 #include "geom/bvh_traverse.hpp"
 #include "geom/morton.hpp"
 #include "util/error.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 namespace {
@@ -63,7 +64,7 @@ std::vector<Keyed> morton_sorted(const std::vector<Aabb>& boxes, int threads) {
                   std::uint32_t(i)};
     }
   };
-  geom_detail::parallel_chunks(boxes.size(), boxes.size() < 8192 ? 1 : 2, threads,
+  parallel_chunks(boxes.size(), boxes.size() < 8192 ? 1 : 2, threads,
                                [&](std::size_t, std::size_t begin, std::size_t end) { code(begin, end); });
   radix_sort(items);  // stable: ties stay in id order
   return items;

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "geom/bvh.hpp"
-#include "geom/parallel.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 
@@ -109,7 +109,7 @@ std::vector<R> collect_overlaps(const Bvh& a, const Bvh& b, bool self, int threa
   }
   tasks.insert(tasks.end(), leaves.begin(), leaves.end());
   std::vector<std::vector<R>> parts(tasks.size());
-  geom_detail::parallel_chunks(tasks.size(), tasks.size(), threads, [&](std::size_t c, std::size_t, std::size_t) {
+  parallel_chunks(tasks.size(), tasks.size(), threads, [&](std::size_t c, std::size_t, std::size_t) {
     auto visit = [&](std::uint32_t i, std::uint32_t j) { test(i, j, parts[c]); };
     geom_detail::traverse_from(a, b, self, tasks[c], visit, keep);
   });

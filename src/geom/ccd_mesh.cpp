@@ -8,6 +8,7 @@
 #include "geom/ccd.hpp"
 #include "geom/bvh_traverse.hpp"
 #include "util/error.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 namespace {
@@ -192,9 +193,9 @@ template <class R, class ManyBox, class Test>
 std::vector<R> scan_against(const std::vector<Aabb>& few, std::size_t many, ManyBox many_box, int threads, Test test) {
   if (few.empty() || many == 0) return {};
   const Bvh tree = build_bvh(few);
-  const std::size_t chunks = geom_detail::chunk_count(many);
+  const std::size_t chunks = chunk_count(many);
   std::vector<std::vector<R>> parts(chunks);
-  geom_detail::parallel_chunks(many, chunks, threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+  parallel_chunks(many, chunks, threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
     std::vector<std::uint32_t> hits;
     for (std::size_t j = begin; j < end; ++j) {
       hits.clear();

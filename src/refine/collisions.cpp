@@ -4,7 +4,7 @@
 #include <numeric>
 
 #include "geom/ccd.hpp"
-#include "geom/parallel.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 
@@ -57,9 +57,9 @@ std::size_t keep_inside(const FractureSurface& s, const ExteriorSurface& b, cons
   std::vector<float> scratch;
   std::vector<float>& c = clearance ? *clearance : scratch;
   c.resize(x1.size(), -1.0f);
-  const std::size_t chunks = geom_detail::chunk_count(x1.size(), 2048);
+  const std::size_t chunks = chunk_count(x1.size(), 2048);
   std::vector<std::size_t> reset(chunks, 0);
-  geom_detail::parallel_chunks(
+  parallel_chunks(
       x1.size(), chunks, kInsideThreads, [&](std::size_t k, std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i)
           if (!(s.vertex_flags[i] & kVertexBoundary) && keep_vertex_inside(b, x0[i], x1[i], c[i])) ++reset[k];
@@ -136,7 +136,7 @@ RimFaces rim_faces(const FractureSurface& s, const std::vector<glm::vec4>& x0, c
 // edge–edge contact, so CCD over a zero step would not see it).
 void drop_crossing_rim_faces(RimFaces& rim, const std::vector<glm::dvec3>& p0_rim, const ExteriorSurface& b) {
   std::vector<char> keep(rim.triangles.size(), 0);
-  geom_detail::parallel_chunks(keep.size(), geom_detail::chunk_count(keep.size(), 512), kInsideThreads,
+  parallel_chunks(keep.size(), chunk_count(keep.size(), 512), kInsideThreads,
                                [&](std::size_t, std::size_t begin, std::size_t end) {
                                  for (std::size_t k = begin; k < end; ++k) {
                                    const auto& tri = rim.triangles[k];

@@ -8,7 +8,7 @@
 #include "geom/bvh.hpp"
 #include "geom/bvh_traverse.hpp"
 #include "geom/intersect.hpp"
-#include "geom/parallel.hpp"
+#include "util/parallel.hpp"
 
 #include "refine/topology_edit.hpp"
 
@@ -89,14 +89,14 @@ std::vector<FlipCandidate> candidate_flips(const FractureSurface& s, std::span<c
   const double cos_min = std::cos(o.min_angle * M_PI / 180.0);
   // Only edges of a slim face are candidates: judged once per face, before the costlier tests.
   std::vector<char> slim(s.faces.size(), 0);
-  geom_detail::parallel_chunks(s.faces.size(), geom_detail::chunk_count(s.faces.size(), 4096), o.threads,
+  parallel_chunks(s.faces.size(), chunk_count(s.faces.size(), 4096), o.threads,
                                [&](std::size_t, std::size_t begin, std::size_t end) {
                                  for (std::size_t f = begin; f < end; ++f)
                                    slim[f] = max_cosine(x(s.faces[f].x), x(s.faces[f].y), x(s.faces[f].z)) > cos_min;
                                });
-  const std::size_t chunks = geom_detail::chunk_count(s.edges.size(), 4096);
+  const std::size_t chunks = chunk_count(s.edges.size(), 4096);
   std::vector<std::vector<FlipCandidate>> parts(chunks);
-  geom_detail::parallel_chunks(s.edges.size(), chunks, o.threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+  parallel_chunks(s.edges.size(), chunks, o.threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
     for (auto e = std::uint32_t(begin); e < end; ++e) {
       glm::uvec2 cd, ff;
       if (s.edge_special[e] != kEdgeRegular) continue;

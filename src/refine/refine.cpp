@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "field/field_sampler.hpp"
-#include "geom/parallel.hpp"
+#include "util/parallel.hpp"
 #include "refine/collisions.hpp"
 #include "refine/containment.hpp"
 #include "refine/flips.hpp"
@@ -327,7 +327,7 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
   // Verdicts side by side, then the splits in sample order: at most one per face, within budget.
   std::vector<Verdict> verdicts(set.points.size());
   const float tau = float(o_.tau) * scale;
-  geom_detail::parallel_chunks(set.points.size(), geom_detail::chunk_count(set.points.size(), 1024), kThreads,
+  parallel_chunks(set.points.size(), chunk_count(set.points.size(), 1024), kThreads,
                                [&](std::size_t, std::size_t begin, std::size_t end) {
                                  for (std::size_t k = begin; k < end; ++k)
                                    verdicts[k] = judge_sample(set.requests[k], glm::vec3(set.points[k]), out[k], on_boundary[k], tau);
@@ -382,7 +382,7 @@ void Refiner::fill_budget(const SampleSet& set, const std::vector<glm::vec4>& te
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
     return verdicts[a].offset > verdicts[b].offset || (verdicts[a].offset == verdicts[b].offset && a < b);
   });
-  geom_detail::parallel_chunks(order.size(), geom_detail::chunk_count(order.size(), 1024), kThreads,
+  parallel_chunks(order.size(), chunk_count(order.size(), 1024), kThreads,
                                [&](std::size_t, std::size_t begin, std::size_t end) {
                                  for (std::size_t i = begin; i < end; ++i) {
                                    const std::uint32_t k = order[i];

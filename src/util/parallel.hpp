@@ -1,7 +1,7 @@
 #pragma once
-// Internal to the geom room: run fixed chunks of an index range on a few threads. Chunk
-// boundaries depend only on n, so per-chunk results concatenated in chunk order are the same
-// for any thread count.
+// Run fixed chunks of an index range on a few threads (shared by the rooms that split work:
+// geom, refine, animate). Chunk boundaries depend only on n, so per-chunk results concatenated
+// in chunk order are the same for any thread count.
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
@@ -9,7 +9,7 @@
 #include <thread>
 #include <vector>
 
-namespace fracref::geom_detail {
+namespace fracref {
 
 /// Number of chunks used for n items: enough for load balance, few enough to be cheap.
 inline std::size_t chunk_count(std::size_t n, std::size_t min_chunk = 256) {
@@ -45,4 +45,4 @@ void parallel_chunks(std::size_t n, std::size_t chunks, int threads, Fn&& fn) {
     if (e) std::rethrow_exception(e);
 }
 
-}  // namespace fracref::geom_detail
+}  // namespace fracref
