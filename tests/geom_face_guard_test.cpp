@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "geom/face_guard.hpp"
+#include "util/error.hpp"
 
 namespace fracref {
 namespace {
@@ -61,6 +62,32 @@ TEST(FaceGuard, AcceptedFacesBlockInEveryRunAndInTheTail) {
   }
   EXPECT_TRUE(g.clear(piercing(g, n + 3, 5.0), {}));  // beyond the row
   EXPECT_TRUE(g.clear(piercing(g, 10, 2.0), {}));     // under it
+}
+
+// A guard over regions indexes only the faces near them and answers as the full guard does for
+// new faces inside a region; new faces outside every region are a caller's error.
+TEST(FaceGuard, RegionsAnswerAsTheFullGuardInsideThem) {
+  const Row r = row(40, 0.0);
+  Aabb near_5, near_30;  // around the triangles over [5, 5.8] and [30, 30.8], through z = 0
+  near_5.expand(glm::dvec3(4.9, -0.1, -1.0)), near_5.expand(glm::dvec3(6.0, 1.0, 2.0));
+  near_30.expand(glm::dvec3(29.9, -0.1, -1.0)), near_30.expand(glm::dvec3(31.0, 1.0, 2.0));
+  FaceGuard full(r.positions, r.faces), regional(r.positions, r.faces, {near_5, near_30});
+  for (int k : {5, 30}) {
+    SCOPED_TRACE("triangle " + std::to_string(k));
+    const auto a = piercing(full, k, 0.0), b = piercing(regional, k, 0.0);
+    EXPECT_FALSE(full.clear(a, {}));
+    EXPECT_FALSE(regional.clear(b, {}));
+    EXPECT_TRUE(regional.clear(b, {std::uint32_t(k)}));
+    EXPECT_TRUE(regional.clear(piercing(regional, k, 0.8), {}));  // above the row, still inside the region
+  }
+  EXPECT_THROW(regional.clear(piercing(regional, 12, 0.0), {}), RunError);  // outside both regions
+  // An accepted face inside a region blocks as it does in the full guard.
+  const auto upper = piercing(regional, 30, 0.0);
+  regional.accept(upper, {30});
+  EXPECT_TRUE(regional.clear(piercing(regional, 5, 0.0), {5}));
+  const std::uint32_t a = regional.add_vertex({30.2, 0.4, 0.0}), b = regional.add_vertex({30.6, 0.4, 0.0}),
+                      c = regional.add_vertex({30.4, 0.6, 0.0});
+  EXPECT_FALSE(regional.clear({{a, b, c}}, {}));  // across the accepted vertical face
 }
 
 }  // namespace

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <utility>
 
+#include "util/error.hpp"
+#include "util/parallel.hpp"
+
 namespace fracref {
 
 FaceGuard::FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces, int threads)
@@ -11,6 +14,45 @@ FaceGuard::FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds>
   boxes.reserve(faces_.size());
   for (const TriangleIds& t : faces_) boxes.push_back(box_of(t));
   // Built for a handful of queries on a surface of up to ~200K faces: the build is the cost.
+  BvhOptions o;
+  o.threads = threads;
+  bvh_ = build_bvh(boxes, o);
+}
+
+namespace {
+
+bool box_inside(const Aabb& inner, const Aabb& outer) {
+  return outer.lo.x <= inner.lo.x && outer.lo.y <= inner.lo.y && outer.lo.z <= inner.lo.z &&
+         inner.hi.x <= outer.hi.x && inner.hi.y <= outer.hi.y && inner.hi.z <= outer.hi.z;
+}
+
+}  // namespace
+
+FaceGuard::FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces, const std::vector<Aabb>& regions,
+                     int threads)
+    : x_(std::move(positions)),
+      faces_(std::move(faces)),
+      s_faces_(faces_.size()),
+      gone_(faces_.size(), 0),
+      restricted_(true),
+      regions_(regions),
+      region_tree_(build_bvh(regions_)) {
+  const std::size_t chunks = chunk_count(faces_.size(), 8192);
+  std::vector<std::vector<std::uint32_t>> parts(chunks);
+  parallel_chunks(faces_.size(), chunks, threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    std::vector<std::uint32_t> hits;
+    for (std::size_t f = begin; f < end; ++f) {
+      hits.clear();
+      query_box(region_tree_, box_of(faces_[f]), hits);
+      if (!hits.empty()) parts[c].push_back(std::uint32_t(f));
+    }
+  });
+  std::vector<Aabb> boxes;
+  for (const auto& part : parts)
+    for (std::uint32_t f : part) {
+      indexed_.push_back(f);
+      boxes.push_back(box_of(faces_[f]));
+    }
   BvhOptions o;
   o.threads = threads;
   bvh_ = build_bvh(boxes, o);
@@ -31,7 +73,15 @@ bool FaceGuard::meets_snapshot(const std::vector<TriangleIds>& faces, const std:
   Aabb box;
   for (const TriangleIds& t : faces) box.expand(box_of(t));
   std::vector<std::uint32_t> hits;
+  if (restricted_) {
+    query_box(region_tree_, box, hits);
+    if (std::none_of(hits.begin(), hits.end(), [&](std::uint32_t r) { return box_inside(box, regions_[r]); }))
+      throw RunError("face guard: new faces outside every region given to it (an internal error; please report it)");
+    hits.clear();
+  }
   query_box(bvh_, box, hits);
+  if (restricted_)
+    for (std::uint32_t& g : hits) g = indexed_[g];
   for (std::uint32_t g : hits) {
     if (gone_[g] || std::find(replaced.begin(), replaced.end(), g) != replaced.end()) continue;
     if (std::any_of(faces.begin(), faces.end(), [&](const TriangleIds& t) { return mesh_faces_intersect(x_, t, faces_[g]); }))

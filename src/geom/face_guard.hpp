@@ -21,6 +21,15 @@ class FaceGuard {
   /// \pre every face index is below positions.size().
   FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces, int threads = 2);
 
+  /// A guard for edits inside known regions: only the faces whose box overlaps one of `regions`
+  /// are indexed (a face outside every region cannot meet a new face inside one), which on a
+  /// large surface costs a scan instead of a tree over all of its faces.
+  /// \pre every face index is below positions.size().
+  /// \throw RunError from clear() when the new faces' box is not inside one of the regions (a
+  /// caller's error: faces outside them were not indexed).
+  FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces, const std::vector<Aabb>& regions,
+            int threads = 2);
+
   /// Adds a vertex that the new faces may use; returns its id (after the mesh's vertices).
   std::uint32_t add_vertex(const glm::dvec3& p);
 
@@ -58,7 +67,11 @@ class FaceGuard {
   std::vector<TriangleIds> faces_;   // the mesh's faces, then the accepted new ones
   std::size_t s_faces_ = 0;
   std::vector<char> gone_;           // per mesh face
-  Bvh bvh_;
+  Bvh bvh_;                          // item k: mesh face k, or indexed_[k] when restricted_
+  bool restricted_ = false;          // built with regions: only faces near them are indexed
+  std::vector<std::uint32_t> indexed_;
+  std::vector<Aabb> regions_;
+  Bvh region_tree_;
   std::vector<Aabb> new_boxes_;      // per accepted new face
   std::vector<Run> runs_;
 };

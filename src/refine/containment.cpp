@@ -90,6 +90,9 @@ double deepest_outside_on_edge(const FractureSurface& s, std::uint32_t e, const 
 class SplitBatch {
  public:
   explicit SplitBatch(const FractureSurface& s) : s_(s), touched_(s.faces.size(), 0) {}
+  // For splits whose new faces each lie inside one of `regions` (see FaceGuard's regions).
+  SplitBatch(const FractureSurface& s, std::vector<Aabb> regions)
+      : s_(s), touched_(s.faces.size(), 0), regions_(std::move(regions)) {}
 
   bool busy_edge(std::uint32_t e) const {
     for (std::uint32_t k = s_.ef_offsets[e]; k < s_.ef_offsets[e + 1]; ++k)
@@ -144,13 +147,16 @@ class SplitBatch {
 
  private:
   FaceGuard& guard() {  // built on the first candidate: most passes split little
-    if (!guard_) guard_.emplace(double_positions(s_), face_triangles(s_));
+    if (guard_) return *guard_;
+    if (regions_) guard_.emplace(double_positions(s_), face_triangles(s_), *regions_);
+    else guard_.emplace(double_positions(s_), face_triangles(s_));
     return *guard_;
   }
 
   const FractureSurface& s_;
   std::vector<char> touched_;
   std::optional<FaceGuard> guard_;
+  std::optional<std::vector<Aabb>> regions_;
   std::vector<SplitRequest> requests_;
   std::vector<glm::vec3> targets_;
 };
@@ -263,23 +269,42 @@ std::size_t tuck_faces(FractureSurface& s, RefinementTree& tree, const ExteriorS
 namespace {
 
 // One pass of split_rim_chords; the chords' midpoints are inside B, so the new vertices are
-// interior and between passes the edge table is all that must be rebuilt.
+// interior and between passes the edge table is all that must be rebuilt. The chords and their
+// new vertices are found first, so that the FaceGuard indexes only the faces near them (a few
+// thousand of the bunny's 173K: the tree over all of them was most of a pass).
 std::size_t split_rim_chords_once(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o,
                                   bool full_rebuild) {
-  SplitBatch batch(s);
+  struct Chord {
+    std::uint32_t edge;
+    glm::dvec3 mid, q;
+    bool mid_inside;
+  };
+  std::vector<Chord> chords;
+  std::vector<Aabb> regions;
   for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
     const glm::uvec2 ab = s.edges[e];
     if (s.edge_special[e] == kEdgeBoundary || !(s.vertex_flags[ab.x] & kVertexBoundary) ||
-        !(s.vertex_flags[ab.y] & kVertexBoundary) || batch.busy_edge(e))
+        !(s.vertex_flags[ab.y] & kVertexBoundary))
       continue;
-    const glm::dvec3 mid = 0.5 * (at(s, ab.x) + at(s, ab.y));
+    Chord c{e, 0.5 * (at(s, ab.x) + at(s, ab.y)), {}, false};
     const double margin = std::min(o.margin * o.scale, 0.1 * glm::distance(at(s, ab.x), at(s, ab.y)));
-    const bool mid_inside = b.contains(mid);
-    glm::dvec3 q = mid;
-    if (!mid_inside || b.squared_distance(mid) < margin * margin) q = inside_target(b, mid, margin);
+    c.mid_inside = b.contains(c.mid);
+    c.q = c.mid;
+    if (!c.mid_inside || b.squared_distance(c.mid) < margin * margin) c.q = inside_target(b, c.mid, margin);
+    Aabb region;  // the new faces' corners: the faces' on e and the new vertex (rounded as stored)
+    for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k)
+      for (int i = 0; i < 3; ++i) region.expand(at(s, s.faces[s.ef_faces[k]][i]));
+    region.expand(glm::dvec3(glm::vec3(c.q)));
+    region.expand(glm::dvec3(glm::vec3(c.mid)));
+    chords.push_back(c);
+    regions.push_back(region);
+  }
+  SplitBatch batch(s, std::move(regions));
+  for (const Chord& c : chords) {
+    if (batch.busy_edge(c.edge)) continue;
     // Moved inward, the new faces bend and can cut a neighbouring face at the rim.
-    if (b.contains(q) && batch.add_edge(e, 0.5f, q)) continue;
-    if (q != mid && mid_inside) batch.add_edge(e, 0.5f, mid);
+    if (b.contains(c.q) && batch.add_edge(c.edge, 0.5f, c.q)) continue;
+    if (c.q != c.mid && c.mid_inside) batch.add_edge(c.edge, 0.5f, c.mid);
   }
   return batch.apply(s, tree, full_rebuild);
 }

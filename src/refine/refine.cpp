@@ -577,7 +577,9 @@ RefineResult Refiner::run(const RefineProgress& progress) {
       break;
     }
   }
+  const auto TC = Clock::now();
   const bool rebuilt = split_rim_chords(s_, tree_, b_, tuck_options(), kChordPasses) > 0;
+  fprintf(stderr, "CHORDS %.1f\n", seconds_since(TC) * 1e3);
   // Every edit is meant to keep S valid; a violation here is a bug, and it must not reach the
   // pieces or the output files silently. After a rebuild_adjacency the comparison with a fresh
   // rebuild would compare a rebuild with itself.
