@@ -328,6 +328,44 @@ TEST(RefineLoop, SplitPreviewMatchesApplySplits) {
   }
 }
 
+// apply_splits rebuilds only what splits change (vf, edges) and derives the new vertices' flags
+// and copies and the new faces' components: every derived array must equal a fresh rebuild,
+// over two rounds (the second splitting faces and edges the first made) on a three-piece junction.
+TEST(RefineLoop, SplitsRebuildAsAFreshRebuildWould) {
+  FractureSurface s = example_t_junction(2);
+  RefinementTree tree = RefinementTree::identity(s.positions.size());
+  for (int round = 0; round < 2; ++round) {
+    SCOPED_TRACE("round " + std::to_string(round));
+    std::vector<SplitRequest> req;
+    std::vector<char> touched(s.faces.size(), 0);
+    auto free_edge = [&](std::uint32_t e) {
+      for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k)
+        if (touched[s.ef_faces[k]]) return false;
+      return true;
+    };
+    for (std::uint8_t kind : {kEdgeNonManifold, kEdgeBoundary, kEdgeRegular})
+      for (std::uint32_t e = std::uint32_t(s.edges.size()); e-- > 0;)  // the newest edges first
+        if (s.edge_special[e] == kind && free_edge(e)) {
+          for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) touched[s.ef_faces[k]] = 1;
+          req.push_back({SplitRequest::kEdge, e, glm::vec3(0.4f, 0.6f, 0.0f)});
+          break;
+        }
+    for (std::uint32_t f = std::uint32_t(s.faces.size()); f-- > 0 && req.size() < 8;)
+      if (!touched[f]) req.push_back({SplitRequest::kFace, f, glm::vec3(0.2f, 0.5f, 0.3f)}), touched[f] = 1;
+    ASSERT_EQ(req.size(), 8u);
+    apply_splits(s, tree, req);
+    FractureSurface fresh = primary_copy(s);
+    rebuild_adjacency(fresh);
+    EXPECT_EQ(s.vertex_flags, fresh.vertex_flags);
+    EXPECT_EQ(s.side_component, fresh.side_component);
+    EXPECT_EQ(s.component_count, fresh.component_count);
+    EXPECT_EQ(s.copy_offsets, fresh.copy_offsets);
+    EXPECT_EQ(s.copies, fresh.copies);
+    EXPECT_EQ(s.piece_vertex_counts, fresh.piece_vertex_counts);
+    ASSERT_EQ(validate(s), "");
+  }
+}
+
 TEST(RefineLoop, FlipsRemoveSlimTrianglesAndKeepInvariants) {
   // A slim face (a, b, c) with c close to edge a-b, and its neighbour (b, a, d): flipping a-b
   // to c-d makes two well-shaped faces of the same flat shape.

@@ -139,9 +139,9 @@ class SplitBatch {
     return true;
   }
 
-  // Makes the queued splits; returns how many. See apply_splits for `full_rebuild`.
-  std::size_t apply(FractureSurface& s, RefinementTree& tree, bool full_rebuild = true) {
-    if (!requests_.empty()) apply_splits(s, tree, requests_, &targets_, full_rebuild);
+  // Makes the queued splits; returns how many. See apply_splits for `deferred_origin`.
+  std::size_t apply(FractureSurface& s, RefinementTree& tree, std::vector<std::uint32_t>* deferred_origin = nullptr) {
+    if (!requests_.empty()) apply_splits(s, tree, requests_, &targets_, deferred_origin);
     return requests_.size();
   }
 
@@ -273,7 +273,7 @@ namespace {
 // new vertices are found first, so that the FaceGuard indexes only the faces near them (a few
 // thousand of the bunny's 173K: the tree over all of them was most of a pass).
 std::size_t split_rim_chords_once(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o,
-                                  bool full_rebuild) {
+                                  std::vector<std::uint32_t>& origin) {
   struct Chord {
     std::uint32_t edge;
     glm::dvec3 mid, q;
@@ -306,20 +306,22 @@ std::size_t split_rim_chords_once(FractureSurface& s, RefinementTree& tree, cons
     if (b.contains(c.q) && batch.add_edge(c.edge, 0.5f, c.q)) continue;
     if (c.q != c.mid && c.mid_inside) batch.add_edge(c.edge, 0.5f, c.mid);
   }
-  return batch.apply(s, tree, full_rebuild);
+  return batch.apply(s, tree, &origin);
 }
 
 }  // namespace
 
 std::size_t split_rim_chords(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o,
                              int passes) {
+  const std::size_t first_vertex = s.positions.size(), first_face = s.faces.size();
+  std::vector<std::uint32_t> origin;
   std::size_t total = 0;
   for (int pass = 0; pass < passes; ++pass) {
-    const std::size_t made = split_rim_chords_once(s, tree, b, o, false);
+    const std::size_t made = split_rim_chords_once(s, tree, b, o, origin);
     total += made;
     if (made == 0) break;
   }
-  if (total > 0) rebuild_adjacency(s);
+  if (total > 0) rebuild_after_splits(s, first_vertex, first_face, origin);
   return total;
 }
 

@@ -47,7 +47,7 @@ std::size_t tuck_inside(FractureSurface& s, RefinementTree& tree, const Exterior
 /// planes). Up to `passes` passes (each face split at most once per pass; a chord whose face was
 /// split in a pass waits for the next), until a pass splits nothing; a split whose new faces would
 /// meet another face of S is not made. Returns the number of splits. s is valid on return, its
-/// adjacency built by rebuild_adjacency() when a split was made.
+/// adjacency rebuilt (rebuild_after_splits) when a split was made.
 /// \pre s valid, tree covers every vertex of s.
 std::size_t split_rim_chords(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& exterior,
                              const TuckOptions& options = {}, int passes = 1);

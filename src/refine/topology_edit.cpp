@@ -43,21 +43,22 @@ std::uint32_t add_vertex(FractureSurface& s, RefinementTree& tree, glm::uvec3 pa
   return std::uint32_t(s.positions.size() - 1);
 }
 
-void add_face(FractureSurface& s, glm::uvec3 v, glm::ivec2 pieces) {
+// Appends face v split off face `from` (same pieces), recording where it came from.
+void add_face(FractureSurface& s, glm::uvec3 v, std::uint32_t from, std::vector<std::uint32_t>& origin) {
   s.faces.push_back(glm::uvec4(v, 0u));
-  s.face_pieces.push_back(pieces);
+  s.face_pieces.push_back(s.face_pieces[from]);
+  origin.push_back(from);
 }
 
-void split_face(FractureSurface& s, RefinementTree& tree, const SplitRequest& r) {
+void split_face(FractureSurface& s, RefinementTree& tree, const SplitRequest& r, std::vector<std::uint32_t>& origin) {
   glm::uvec4 f = s.faces[r.element];
   std::uint32_t v = add_vertex(s, tree, glm::uvec3(f), r.weights);
-  glm::ivec2 pieces = s.face_pieces[r.element];
   s.faces[r.element] = glm::uvec4(f.x, f.y, v, 0u);
-  add_face(s, {f.y, f.z, v}, pieces);
-  add_face(s, {f.z, f.x, v}, pieces);
+  add_face(s, {f.y, f.z, v}, r.element, origin);
+  add_face(s, {f.z, f.x, v}, r.element, origin);
 }
 
-void split_edge(FractureSurface& s, RefinementTree& tree, const SplitRequest& r) {
+void split_edge(FractureSurface& s, RefinementTree& tree, const SplitRequest& r, std::vector<std::uint32_t>& origin) {
   glm::uvec2 e = s.edges[r.element];
   std::uint32_t v = add_vertex(s, tree, glm::uvec3(e.x, e.y, e.x), r.weights);
   for (std::uint32_t k = s.ef_offsets[r.element]; k < s.ef_offsets[r.element + 1]; ++k) {
@@ -71,23 +72,25 @@ void split_edge(FractureSurface& s, RefinementTree& tree, const SplitRequest& r)
       c = glm::uvec3(c.y, c.z, c.x);
     }
     s.faces[fi] = glm::uvec4(c.x, v, c.z, 0u);
-    add_face(s, {v, c.y, c.z}, s.face_pieces[fi]);
+    add_face(s, {v, c.y, c.z}, fi, origin);
   }
 }
 
 }  // namespace
 
 std::size_t apply_splits(FractureSurface& s, RefinementTree& tree, const std::vector<SplitRequest>& requests,
-                         const std::vector<glm::vec3>* positions, bool full_rebuild) {
-  std::size_t before = s.positions.size();
+                         const std::vector<glm::vec3>* positions, std::vector<std::uint32_t>* deferred_origin) {
+  const std::size_t before = s.positions.size(), first_face = s.faces.size();
+  std::vector<std::uint32_t> own_origin;
+  std::vector<std::uint32_t>& origin = deferred_origin ? *deferred_origin : own_origin;
   for (std::size_t k = 0; k < requests.size(); ++k) {
     const SplitRequest& r = requests[k];
-    if (r.kind == SplitRequest::kFace) split_face(s, tree, r);
-    else split_edge(s, tree, r);
+    if (r.kind == SplitRequest::kFace) split_face(s, tree, r, origin);
+    else split_edge(s, tree, r, origin);
     if (positions) s.positions.back() = glm::vec4((*positions)[k], 1.0f);
   }
-  if (full_rebuild) rebuild_adjacency(s);
-  else rebuild_edge_table(s);
+  if (deferred_origin) rebuild_edge_table(s);
+  else rebuild_after_splits(s, before, first_face, origin);
   return s.positions.size() - before;
 }
 
@@ -100,10 +103,11 @@ FractureSurface split_preview(const FractureSurface& s, const std::vector<SplitR
   RefinementTree scratch;  // add_vertex records the new vertices' parents
   scratch.parents.resize(s.positions.size());
   scratch.weights.resize(s.positions.size());
+  std::vector<std::uint32_t> origin;
   for (std::size_t k = 0; k < requests.size(); ++k) {
     const SplitRequest& r = requests[k];
-    if (r.kind == SplitRequest::kFace) split_face(t, scratch, r);
-    else split_edge(t, scratch, r);
+    if (r.kind == SplitRequest::kFace) split_face(t, scratch, r, origin);
+    else split_edge(t, scratch, r, origin);
     t.positions.back() = glm::vec4(positions[k], 1.0f);
     if (r.kind == SplitRequest::kEdge && s.edge_special[r.element] == kEdgeBoundary) t.vertex_flags.back() |= kVertexBoundary;
   }

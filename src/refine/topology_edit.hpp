@@ -42,11 +42,13 @@ struct SplitRequest {
 /// weighted point (a boundary sample projected onto the exterior); the tree keeps the weights.
 /// \pre adjacency current; requests reference valid elements; tree covers every vertex.
 /// \return the number of vertices added.
-/// With `full_rebuild` false only the edge table is rebuilt (rebuild_edge_table): for a caller
-/// that splits again right away and rebuilds everything at the end; the new vertices' flags are
-/// then 0 (right for a vertex inside an interior regular edge or a face).
+/// The adjacency is rebuilt by rebuild_after_splits. With `deferred_origin` only the edge table
+/// is (rebuild_edge_table), and the new faces' origins are appended to it: for a caller that
+/// splits again right away and calls rebuild_after_splits once at the end; the new vertices'
+/// flags are 0 until then (right for a vertex inside an interior regular edge or a face).
 std::size_t apply_splits(FractureSurface& s, RefinementTree& tree, const std::vector<SplitRequest>& requests,
-                         const std::vector<glm::vec3>* positions = nullptr, bool full_rebuild = true);
+                         const std::vector<glm::vec3>* positions = nullptr,
+                         std::vector<std::uint32_t>* deferred_origin = nullptr);
 
 /// S after apply_splits(s, tree, requests, &positions) as far as collision tests read it:
 /// positions, faces, face_pieces, vertex_flags (a new vertex on a split boundary edge flagged

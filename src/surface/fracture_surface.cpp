@@ -149,6 +149,16 @@ FractureSurface primary_copy(const FractureSurface& s) {
   return t;
 }
 
+void rebuild_after_splits(FractureSurface& s, std::size_t first_vertex, std::size_t first_face,
+                          std::span<const std::uint32_t> origin) {
+  if (origin.size() != s.faces.size() - first_face)
+    throw RunError("rebuild_after_splits: " + std::to_string(origin.size()) + " origins for " +
+                   std::to_string(s.faces.size() - first_face) + " new faces");
+  surface_detail::build_vertex_faces(s);
+  surface_detail::build_edges(s);
+  surface_detail::extend_after_splits(s, first_vertex, first_face, origin);
+}
+
 void rebuild_edge_table(FractureSurface& s) { surface_detail::build_edges(s); }
 
 void rebuild_after_flips(FractureSurface& s) {

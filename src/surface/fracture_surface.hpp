@@ -8,6 +8,7 @@
 // everything else is derived by rebuild_adjacency(), which must run after every topology edit.
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -117,6 +118,18 @@ FractureSurface primary_copy(const FractureSurface& s);
 /// \pre the flips were of that kind (validate() compares every derived array with a fresh build).
 void rebuild_after_flips(FractureSurface& s);
 
+/// rebuild_adjacency after splits that appended vertices from `first_vertex` on, each inside a
+/// face or an edge, and faces from `first_face` on, face f split off face origin[f - first_face]
+/// (an older face, or one appended before f) with its winding and pieces; every old face keeps
+/// its id, winding and pieces. The vertex-face lists and the edge table are rebuilt; the old
+/// vertices' flags and copies and the old faces' components are kept (a split changes none of
+/// them), the new ones derived from their edges and origins: a full rebuild's flags and copies
+/// cost ten times as much on a large surface.
+/// \pre the derived arrays were current before the splits; origin.size() == faces after
+/// first_face (validate() compares every derived array with a fresh build).
+void rebuild_after_splits(FractureSurface& s, std::size_t first_vertex, std::size_t first_face,
+                          std::span<const std::uint32_t> origin);
+
 /// Only the edge table of rebuild_adjacency (edges, ef_offsets, ef_faces, face_edges,
 /// edge_special); vf, the vertex flags, components and copies are left as they were. For scratch
 /// copies that only collision tests read. \pre face indices in range.
@@ -152,9 +165,10 @@ std::vector<int> component_pieces(const FractureSurface& s);
 std::string validate(const FractureSurface& s);
 
 /// validate() without its comparison of the derived arrays with a fresh rebuild: for a surface
-/// whose adjacency rebuild_adjacency() has just built (they are equal by construction), where an
-/// edit is judged by whether the new faces make a valid S, and the full check would rebuild it
-/// a second time. \pre rebuild_adjacency(s) ran after the last change to s.
+/// whose adjacency rebuild_adjacency() (or rebuild_after_flips / rebuild_after_splits, whose
+/// results the unit tests compare with fresh ones) has just built, where an edit is judged by
+/// whether the new faces make a valid S, and the full check would rebuild it a second time.
+/// \pre the adjacency was rebuilt after the last change to s.
 std::string validate_rebuilt(const FractureSurface& s);
 
 /// validate(), throwing its message. For use after mutations in tests and debug builds.

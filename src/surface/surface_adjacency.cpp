@@ -1,6 +1,7 @@
 // Vertex-face CSR, the edge table, vertex flags and per-piece copies of the fracture surface.
 #include <algorithm>
 #include <numeric>
+#include <span>
 
 #include "surface/surface_internal.hpp"
 
@@ -138,6 +139,19 @@ void build_vertex_flags(FractureSurface& s) {
       s.vertex_flags[v] |= kVertexNonManifold;
 }
 
+// The copies of vertex v (its pieces, ascending), appended to s.copies.
+void append_copies(FractureSurface& s, std::uint32_t v, std::vector<std::uint32_t>& pieces) {
+  pieces.clear();
+  for (std::uint32_t k = s.vf_offsets[v]; k < s.vf_offsets[v + 1]; ++k) {
+    const glm::ivec2 p = s.face_pieces[s.vf_faces[k]];
+    pieces.push_back(std::uint32_t(p.x));
+    pieces.push_back(std::uint32_t(p.y));
+  }
+  std::sort(pieces.begin(), pieces.end());
+  pieces.erase(std::unique(pieces.begin(), pieces.end()), pieces.end());
+  for (std::uint32_t p : pieces) s.copies.emplace_back(p, s.piece_vertex_counts[p]++);
+}
+
 void build_copies(FractureSurface& s) {
   const std::size_t nv = s.positions.size();
   s.copy_offsets.assign(nv + 1, 0);
@@ -146,16 +160,41 @@ void build_copies(FractureSurface& s) {
   std::vector<std::uint32_t> pieces;
   // Vertices are visited in ascending order, so each piece numbers its vertices ascending.
   for (std::uint32_t v = 0; v < nv; ++v) {
-    pieces.clear();
-    for (std::uint32_t k = s.vf_offsets[v]; k < s.vf_offsets[v + 1]; ++k) {
-      const glm::ivec2 p = s.face_pieces[s.vf_faces[k]];
-      pieces.push_back(std::uint32_t(p.x));
-      pieces.push_back(std::uint32_t(p.y));
-    }
-    std::sort(pieces.begin(), pieces.end());
-    pieces.erase(std::unique(pieces.begin(), pieces.end()), pieces.end());
-    for (std::uint32_t p : pieces) s.copies.emplace_back(p, s.piece_vertex_counts[p]++);
+    append_copies(s, v, pieces);
     s.copy_offsets[v + 1] = std::uint32_t(s.copies.size());
+  }
+}
+
+void extend_after_splits(FractureSurface& s, std::size_t first_vertex, std::size_t first_face,
+                         std::span<const std::uint32_t> origin) {
+  // A new vertex lies inside a face or an edge: one fan, flagged by the special edges it is on.
+  s.vertex_flags.resize(s.positions.size(), 0);
+  for (std::size_t v = first_vertex; v < s.positions.size(); ++v) s.vertex_flags[v] = 0;
+  for (std::size_t e = 0; e < s.edges.size(); ++e) {
+    const std::uint32_t bit = s.edge_special[e] == kEdgeBoundary      ? kVertexBoundary
+                              : s.edge_special[e] == kEdgeNonManifold ? kVertexNonManifold
+                                                                      : 0u;
+    for (std::uint32_t v : {s.edges[e].x, s.edges[e].y})
+      if (v >= first_vertex) s.vertex_flags[v] |= bit;
+  }
+  // A new face is wound as the face it was split from: its sides are in that face's components,
+  // whose lowest sides (which number them) are older than it.
+  s.side_component.resize(2 * s.faces.size());
+  for (std::size_t f = first_face; f < s.faces.size(); ++f) {
+    const std::uint32_t o = origin[f - first_face];
+    s.side_component[2 * f] = s.side_component[2 * o];
+    s.side_component[2 * f + 1] = s.side_component[2 * o + 1];
+  }
+  // Old vertices keep their pieces (a new face's old corners were its origin's); new vertices
+  // come last in every piece's numbering.
+  s.copy_offsets.resize(first_vertex + 1);
+  s.copies.resize(s.copy_offsets.back());
+  s.piece_vertex_counts.assign(std::size_t(std::max(s.piece_count, 0)), 0);
+  for (const auto& c : s.copies) ++s.piece_vertex_counts[c.x];
+  std::vector<std::uint32_t> pieces;
+  for (auto v = std::uint32_t(first_vertex); v < s.positions.size(); ++v) {
+    append_copies(s, v, pieces);
+    s.copy_offsets.push_back(std::uint32_t(s.copies.size()));
   }
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Internal steps of rebuild_adjacency(), shared by the builder and validate(). Not a public API.
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,10 @@ void build_vertex_flags(FractureSurface& s);
 void build_components(FractureSurface& s);
 /// copy_offsets, copies, piece_vertex_counts. \pre vf built.
 void build_copies(FractureSurface& s);
+/// The vertex flags, components and copies of the vertices and faces that splits appended, the
+/// rest kept (see rebuild_after_splits). \pre vf and edges built.
+void extend_after_splits(FractureSurface& s, std::size_t first_vertex, std::size_t first_face,
+                         std::span<const std::uint32_t> origin);
 
 /// Two face sides found to face the same region across an edge.
 struct SideJoin {
