@@ -397,6 +397,27 @@ std::size_t face_intersections(const FractureSurface& m) {
 }  // namespace
 
 // A flip moves surface inside its quad; one that would cut through a nearby sheet is skipped.
+// The slim pair of the test above, with two more faces on its outer edge 0-2: one above the
+// plane (edge 0-2 stays regular: the flip is made) and one below (edge 0-2 becomes a junction of
+// three faces: a flip would turn the plane's face on it, so none is made).
+TEST(RefineLoop, QuadsTouchingAJunctionAreNotFlipped) {
+  const std::vector<glm::vec4> p = {{0, 0, 0, 1}, {2, 0, 0, 1},      {1, 0.1f, 0, 1},
+                                    {1, -1, 0, 1}, {0.5f, 0.5f, 1, 1}, {0.5f, 0.5f, -1, 1}};
+  std::vector<glm::uvec4> faces = {{0, 1, 2, 0}, {1, 0, 3, 0}, {0, 2, 4, 0}};
+  std::vector<glm::ivec2> pieces = {{1, 0}, {1, 0}, {2, 0}};
+  const std::vector<glm::vec4> psi(p.size(), glm::vec4(1.0f, 0.0f, 0.0f, 0.0f));
+  const ExteriorSurface none;
+  FractureSurface regular = make_fracture_surface(p, faces, pieces, 3);
+  ASSERT_EQ(regular.edge_special[find_edge(regular, 0, 2)], kEdgeRegular);
+  EXPECT_EQ(flip_slim_triangles(regular, psi, none, FlipOptions{20.0, 5.0}), 1u);
+  faces.push_back({2, 0, 5, 0});
+  pieces.push_back({1, 2});
+  FractureSurface junction = make_fracture_surface(p, faces, pieces, 3);
+  ASSERT_EQ(junction.edge_special[find_edge(junction, 0, 2)], kEdgeNonManifold);
+  EXPECT_EQ(flip_slim_triangles(junction, psi, none, FlipOptions{20.0, 5.0}), 0u);
+  EXPECT_NE(find_edge(junction, 0, 1), kNoEdge);
+}
+
 TEST(RefineLoop, FlipThatWouldCutAnotherSheetIsSkipped) {
   // A shallow valley along a-b (a, b at z = 0; c, d at z = 0.02, 0.1 off the edge): slim faces
   // whose flip to c-d raises the middle of the quad to z = 0.02.

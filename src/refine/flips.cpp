@@ -65,10 +65,13 @@ bool flip_improves(const Quad& q, const FlipOptions& o) {
 
 // A flip changes which face of the quad lies on each of its four outer edges; at a junction
 // (non-manifold) edge that turns the face around the edge to a new opposite vertex and can fold it
-// past another piece's face, so quads touching a junction are left alone.
+// past another piece's face, so quads touching a junction are left alone. Both ends of a junction
+// edge are flagged non-manifold: only such edges are looked up.
 bool touches_junction(const FractureSurface& s, glm::uvec2 ab, glm::uvec2 cd) {
+  auto junction_vertex = [&](std::uint32_t v) { return (s.vertex_flags[v] & kVertexNonManifold) != 0; };
   for (std::uint32_t p : {ab.x, ab.y})
     for (std::uint32_t q : {cd.x, cd.y}) {
+      if (!junction_vertex(p) || !junction_vertex(q)) continue;
       std::uint32_t e = find_edge(s, p, q);
       if (e != kNoEdge && s.edge_special[e] == kEdgeNonManifold) return true;
     }
