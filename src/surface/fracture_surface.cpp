@@ -154,6 +154,10 @@ void rebuild_after_splits(FractureSurface& s, std::size_t first_vertex, std::siz
   if (origin.size() != s.faces.size() - first_face)
     throw RunError("rebuild_after_splits: " + std::to_string(origin.size()) + " origins for " +
                    std::to_string(s.faces.size() - first_face) + " new faces");
+  for (std::size_t k = 0; k < origin.size(); ++k)
+    if (origin[k] >= first_face + k)
+      throw RunError("rebuild_after_splits: face " + std::to_string(first_face + k) + " split off face " +
+                     std::to_string(origin[k]) + ", not an older one");
   surface_detail::build_vertex_faces(s);
   surface_detail::build_edges(s);
   surface_detail::extend_after_splits(s, first_vertex, first_face, origin);

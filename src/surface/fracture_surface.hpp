@@ -125,8 +125,9 @@ void rebuild_after_flips(FractureSurface& s);
 /// vertices' flags and copies and the old faces' components are kept (a split changes none of
 /// them), the new ones derived from their edges and origins: a full rebuild's flags and copies
 /// cost ten times as much on a large surface.
-/// \pre the derived arrays were current before the splits; origin.size() == faces after
-/// first_face (validate() compares every derived array with a fresh build).
+/// \pre the derived arrays were current before the splits (validate() compares every derived
+/// array with a fresh build).
+/// \throw RunError when origin does not hold one older face per new face.
 void rebuild_after_splits(FractureSurface& s, std::size_t first_vertex, std::size_t first_face,
                           std::span<const std::uint32_t> origin);
 
