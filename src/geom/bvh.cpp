@@ -65,7 +65,7 @@ std::vector<Keyed> morton_sorted(const std::vector<Aabb>& boxes, int threads) {
     }
   };
   parallel_chunks(boxes.size(), boxes.size() < 8192 ? 1 : 2, threads,
-                               [&](std::size_t, std::size_t begin, std::size_t end) { code(begin, end); });
+                  [&](std::size_t, std::size_t begin, std::size_t end) { code(begin, end); });
   radix_sort(items);  // stable: ties stay in id order
   return items;
 }

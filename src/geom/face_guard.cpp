@@ -7,16 +7,23 @@
 #include "util/parallel.hpp"
 
 namespace fracref {
+namespace {
+
+// Built for a handful of queries on a surface of up to ~200K faces: the build is the cost.
+Bvh face_tree(const std::vector<Aabb>& boxes, int threads) {
+  BvhOptions o;
+  o.threads = threads;
+  return build_bvh(boxes, o);
+}
+
+}  // namespace
 
 FaceGuard::FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces, int threads)
     : x_(std::move(positions)), faces_(std::move(faces)), s_faces_(faces_.size()), gone_(faces_.size(), 0) {
   std::vector<Aabb> boxes;
   boxes.reserve(faces_.size());
   for (const TriangleIds& t : faces_) boxes.push_back(box_of(t));
-  // Built for a handful of queries on a surface of up to ~200K faces: the build is the cost.
-  BvhOptions o;
-  o.threads = threads;
-  bvh_ = build_bvh(boxes, o);
+  bvh_ = face_tree(boxes, threads);
 }
 
 namespace {
@@ -53,9 +60,7 @@ FaceGuard::FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds>
       indexed_.push_back(f);
       boxes.push_back(box_of(faces_[f]));
     }
-  BvhOptions o;
-  o.threads = threads;
-  bvh_ = build_bvh(boxes, o);
+  bvh_ = face_tree(boxes, threads);
 }
 
 std::uint32_t FaceGuard::add_vertex(const glm::dvec3& p) {

@@ -137,13 +137,13 @@ RimFaces rim_faces(const FractureSurface& s, const std::vector<glm::vec4>& x0, c
 void drop_crossing_rim_faces(RimFaces& rim, const std::vector<glm::dvec3>& p0_rim, const ExteriorSurface& b) {
   std::vector<char> keep(rim.triangles.size(), 0);
   parallel_chunks(keep.size(), chunk_count(keep.size(), 512), kInsideThreads,
-                               [&](std::size_t, std::size_t begin, std::size_t end) {
-                                 for (std::size_t k = begin; k < end; ++k) {
-                                   const auto& tri = rim.triangles[k];
-                                   const glm::dvec3 &x = p0_rim[tri[0]], &y = p0_rim[tri[1]], &z = p0_rim[tri[2]];
-                                   keep[k] = !b.meets(x, y, z) && b.contains((x + y + z) / 3.0);
-                                 }
-                               });
+                  [&](std::size_t, std::size_t begin, std::size_t end) {
+                    for (std::size_t k = begin; k < end; ++k) {
+                      const auto& tri = rim.triangles[k];
+                      const glm::dvec3 &x = p0_rim[tri[0]], &y = p0_rim[tri[1]], &z = p0_rim[tri[2]];
+                      keep[k] = !b.meets(x, y, z) && b.contains((x + y + z) / 3.0);
+                    }
+                  });
   std::size_t kept = 0;
   for (std::size_t k = 0; k < keep.size(); ++k)
     if (keep[k]) rim.triangles[kept++] = rim.triangles[k];

@@ -93,10 +93,10 @@ std::vector<FlipCandidate> candidate_flips(const FractureSurface& s, std::span<c
   // Only edges of a slim face are candidates: judged once per face, before the costlier tests.
   std::vector<char> slim(s.faces.size(), 0);
   parallel_chunks(s.faces.size(), chunk_count(s.faces.size(), 4096), o.threads,
-                               [&](std::size_t, std::size_t begin, std::size_t end) {
-                                 for (std::size_t f = begin; f < end; ++f)
-                                   slim[f] = max_cosine(x(s.faces[f].x), x(s.faces[f].y), x(s.faces[f].z)) > cos_min;
-                               });
+                  [&](std::size_t, std::size_t begin, std::size_t end) {
+                    for (std::size_t f = begin; f < end; ++f)
+                      slim[f] = max_cosine(x(s.faces[f].x), x(s.faces[f].y), x(s.faces[f].z)) > cos_min;
+                  });
   const std::size_t chunks = chunk_count(s.edges.size(), 4096);
   std::vector<std::vector<FlipCandidate>> parts(chunks);
   parallel_chunks(s.edges.size(), chunks, o.threads, [&](std::size_t c, std::size_t begin, std::size_t end) {

@@ -328,10 +328,11 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
   std::vector<Verdict> verdicts(set.points.size());
   const float tau = float(o_.tau) * scale;
   parallel_chunks(set.points.size(), chunk_count(set.points.size(), 1024), kThreads,
-                               [&](std::size_t, std::size_t begin, std::size_t end) {
-                                 for (std::size_t k = begin; k < end; ++k)
-                                   verdicts[k] = judge_sample(set.requests[k], glm::vec3(set.points[k]), out[k], on_boundary[k], tau);
-                               });
+                  [&](std::size_t, std::size_t begin, std::size_t end) {
+                    for (std::size_t k = begin; k < end; ++k)
+                      verdicts[k] =
+                          judge_sample(set.requests[k], glm::vec3(set.points[k]), out[k], on_boundary[k], tau);
+                  });
   SplitChoice choice;
   choice.touched.assign(s_.faces.size(), 0);
   choice.faces = s_.faces.size();
@@ -382,14 +383,13 @@ void Refiner::fill_budget(const SampleSet& set, const std::vector<glm::vec4>& te
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
     return verdicts[a].offset > verdicts[b].offset || (verdicts[a].offset == verdicts[b].offset && a < b);
   });
-  parallel_chunks(order.size(), chunk_count(order.size(), 1024), kThreads,
-                               [&](std::size_t, std::size_t begin, std::size_t end) {
-                                 for (std::size_t i = begin; i < end; ++i) {
-                                   const std::uint32_t k = order[i];
-                                   verdicts[k] = judge_sample(set.requests[k], glm::vec3(set.points[k]), tested[k],
-                                                              on_boundary[k], floor);
-                                 }
-                               });
+  parallel_chunks(
+      order.size(), chunk_count(order.size(), 1024), kThreads, [&](std::size_t, std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+          const std::uint32_t k = order[i];
+          verdicts[k] = judge_sample(set.requests[k], glm::vec3(set.points[k]), tested[k], on_boundary[k], floor);
+        }
+      });
   for (std::size_t i = 0; i < order.size() && !budget_reached_; ++i) {
     const std::uint32_t k = order[i];
     if (!verdicts[k].split || !choice.add(s_, set.requests[k], o_.max_triangles, budget_reached_)) continue;

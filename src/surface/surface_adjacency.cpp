@@ -123,15 +123,21 @@ std::uint32_t fan_count(const FractureSurface& s, std::uint32_t v, std::vector<g
   return fans;
 }
 
+namespace {
+
+// The flag an edge of this kind gives both its ends.
+std::uint32_t end_flag(std::uint8_t special) {
+  return special == kEdgeBoundary ? kVertexBoundary : special == kEdgeNonManifold ? kVertexNonManifold : 0u;
+}
+
+}  // namespace
+
 void build_vertex_flags(FractureSurface& s) {
   s.vertex_flags.resize(s.positions.size(), 0);
   for (std::uint32_t& f : s.vertex_flags) f &= kVertexOriginal;
   for (std::size_t e = 0; e < s.edges.size(); ++e) {
-    const std::uint32_t bit = s.edge_special[e] == kEdgeBoundary      ? kVertexBoundary
-                              : s.edge_special[e] == kEdgeNonManifold ? kVertexNonManifold
-                                                                      : 0u;
-    s.vertex_flags[s.edges[e].x] |= bit;
-    s.vertex_flags[s.edges[e].y] |= bit;
+    s.vertex_flags[s.edges[e].x] |= end_flag(s.edge_special[e]);
+    s.vertex_flags[s.edges[e].y] |= end_flag(s.edge_special[e]);
   }
   std::vector<glm::uvec2> scratch;
   for (std::uint32_t v = 0; v < s.positions.size(); ++v)
@@ -170,13 +176,9 @@ void extend_after_splits(FractureSurface& s, std::size_t first_vertex, std::size
   // A new vertex lies inside a face or an edge: one fan, flagged by the special edges it is on.
   s.vertex_flags.resize(s.positions.size(), 0);
   for (std::size_t v = first_vertex; v < s.positions.size(); ++v) s.vertex_flags[v] = 0;
-  for (std::size_t e = 0; e < s.edges.size(); ++e) {
-    const std::uint32_t bit = s.edge_special[e] == kEdgeBoundary      ? kVertexBoundary
-                              : s.edge_special[e] == kEdgeNonManifold ? kVertexNonManifold
-                                                                      : 0u;
+  for (std::size_t e = 0; e < s.edges.size(); ++e)
     for (std::uint32_t v : {s.edges[e].x, s.edges[e].y})
-      if (v >= first_vertex) s.vertex_flags[v] |= bit;
-  }
+      if (v >= first_vertex) s.vertex_flags[v] |= end_flag(s.edge_special[e]);
   // A new face is wound as the face it was split from: its sides are in that face's components,
   // whose lowest sides (which number them) are older than it.
   s.side_component.resize(2 * s.faces.size());
