@@ -8,6 +8,7 @@
 #include "surface/fracture_surface.hpp"
 #include "surface/surface_examples.hpp"
 #include "util/error.hpp"
+#include "surface_test_support.hpp"
 
 namespace fracref {
 namespace {
@@ -231,15 +232,7 @@ TEST(SurfaceRebuild, DeterministicAndIdempotent) {
   FractureSurface b = a;
   rebuild_adjacency(b);
   rebuild_adjacency(b);
-  EXPECT_EQ(a.vf_offsets, b.vf_offsets);
-  EXPECT_EQ(a.vf_faces, b.vf_faces);
-  EXPECT_EQ(a.edges, b.edges);
-  EXPECT_EQ(a.ef_faces, b.ef_faces);
-  EXPECT_EQ(a.face_edges, b.face_edges);
-  EXPECT_EQ(a.edge_special, b.edge_special);
-  EXPECT_EQ(a.vertex_flags, b.vertex_flags);
-  EXPECT_EQ(a.side_component, b.side_component);
-  EXPECT_EQ(a.copies, b.copies);
+  test::expect_same_derived(a, b);
 }
 
 TEST(SurfaceRebuild, KeepsOriginalFlagAndRecomputesTheRest) {
