@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <set>
 
 #include "surface/fracture_surface.hpp"
@@ -90,6 +91,40 @@ TEST(SurfaceSheet, CsrListsAreSortedAndConsistent) {
       EXPECT_EQ(e, find_edge(s, s.faces[f][i], s.faces[f][(i + 1) % 3]));
     }
   EXPECT_EQ(find_edge(s, vertex_at(s, {0, 0, 0}), vertex_at(s, {2, 2, 0})), kNoEdge);
+}
+
+// The vertex-face lists and the edge table of a surface large enough for their two-thread build
+// (and with non-manifold edges, so buckets hold edges of 1, 2 and 4 faces), against a reference
+// built with an ordered map.
+TEST(SurfaceRebuild, LargeTablesMatchAPlainReference) {
+  const FractureSurface s = example_cross(3000);
+  ASSERT_GT(s.faces.size(), 20000u);
+  std::vector<std::vector<std::uint32_t>> vf(s.positions.size());
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> ef;
+  for (std::uint32_t f = 0; f < s.faces.size(); ++f)
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t a = s.faces[f][i], b = s.faces[f][(i + 1) % 3];
+      vf[a].push_back(f);
+      ef[{std::min(a, b), std::max(a, b)}].push_back(f);
+    }
+  for (std::uint32_t v = 0; v < s.positions.size(); ++v)
+    ASSERT_EQ(std::vector<std::uint32_t>(s.vf_faces.begin() + s.vf_offsets[v], s.vf_faces.begin() + s.vf_offsets[v + 1]),
+              vf[v]) << "vertex " << v;
+  ASSERT_EQ(s.edges.size(), ef.size());
+  std::uint32_t e = 0;
+  for (const auto& [ab, faces] : ef) {
+    ASSERT_EQ(s.edges[e], glm::uvec2(ab.first, ab.second)) << "edge " << e;
+    ASSERT_EQ(std::vector<std::uint32_t>(s.ef_faces.begin() + s.ef_offsets[e], s.ef_faces.begin() + s.ef_offsets[e + 1]),
+              faces) << "edge " << e;
+    const std::uint8_t kind = faces.size() == 1 ? kEdgeBoundary : faces.size() == 2 ? kEdgeRegular : kEdgeNonManifold;
+    ASSERT_EQ(s.edge_special[e], kind) << "edge " << e;
+    ++e;
+  }
+  for (std::uint32_t f = 0; f < s.faces.size(); ++f)
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t a = s.faces[f][i], b = s.faces[f][(i + 1) % 3];
+      ASSERT_EQ(s.edges[s.face_edges[3 * f + i]], glm::uvec2(std::min(a, b), std::max(a, b))) << "face " << f;
+    }
 }
 
 TEST(SurfaceSheet, HoleLeavesAnInnerBoundaryLoop) {

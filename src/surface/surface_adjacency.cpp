@@ -2,55 +2,100 @@
 #include <algorithm>
 #include <numeric>
 #include <span>
+#include <utility>
 
 #include "surface/surface_internal.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref::surface_detail {
 
+namespace {
+
+// Below this many faces a second thread costs more than it saves.
+constexpr std::size_t kParallelFaces = 8192;
+constexpr int kThreads = 2;
+
+// A counting sort of items keyed per face, the faces split into parts that count and scatter
+// side by side: part p's items of key k go after those of parts before it, so every key's items
+// come out in face order whatever the number of parts. `keys(f, emit)` calls emit(key) for each
+// of face f's items, in order; `store(f, i, pos)` places face f's item i at `pos`. Returns the
+// offsets (size nkeys + 1).
+template <class Keys, class Store>
+std::vector<std::uint32_t> counting_sort(std::size_t nf, std::size_t nkeys, const Keys& keys, const Store& store) {
+  const int parts = nf < kParallelFaces ? 1 : kThreads;
+  std::vector<std::vector<std::uint32_t>> cursor(std::size_t(parts), std::vector<std::uint32_t>(nkeys, 0));
+  parallel_chunks(nf, std::size_t(parts), parts, [&](std::size_t p, std::size_t begin, std::size_t end) {
+    for (auto f = std::uint32_t(begin); f < end; ++f) keys(f, [&](std::uint32_t k, std::uint32_t) { ++cursor[p][k]; });
+  });
+  std::vector<std::uint32_t> offsets(nkeys + 1, 0);
+  for (std::size_t k = 0; k < nkeys; ++k) {
+    std::uint32_t at = offsets[k];
+    for (auto& c : cursor) at += std::exchange(c[k], at);
+    offsets[k + 1] = at;
+  }
+  parallel_chunks(nf, std::size_t(parts), parts, [&](std::size_t p, std::size_t begin, std::size_t end) {
+    for (auto f = std::uint32_t(begin); f < end; ++f)
+      keys(f, [&](std::uint32_t k, std::uint32_t i) { store(f, i, cursor[p][k]++); });
+  });
+  return offsets;
+}
+
+}  // namespace
+
 void build_vertex_faces(FractureSurface& s) {
-  const std::size_t nv = s.positions.size();
-  s.vf_offsets.assign(nv + 1, 0);
-  for (const glm::uvec4& f : s.faces)
-    for (int i = 0; i < 3; ++i) ++s.vf_offsets[f[i] + 1];
-  std::partial_sum(s.vf_offsets.begin(), s.vf_offsets.end(), s.vf_offsets.begin());
-  s.vf_faces.resize(s.vf_offsets.back());
-  std::vector<std::uint32_t> cursor(s.vf_offsets.begin(), s.vf_offsets.end() - 1);
-  // Faces are visited in ascending order, so every vertex's list comes out ascending.
-  for (std::uint32_t f = 0; f < s.faces.size(); ++f)
-    for (int i = 0; i < 3; ++i) s.vf_faces[cursor[s.faces[f][i]]++] = f;
+  s.vf_faces.resize(3 * s.faces.size());
+  // Faces are placed in ascending order, so every vertex's list comes out ascending.
+  s.vf_offsets = counting_sort(
+      s.faces.size(), s.positions.size(),
+      [&](std::uint32_t f, auto&& emit) {
+        for (std::uint32_t i = 0; i < 3; ++i) emit(s.faces[f][i], i);
+      },
+      [&](std::uint32_t f, std::uint32_t, std::uint32_t pos) { s.vf_faces[pos] = f; });
 }
 
 void build_edges(FractureSurface& s) {
   const std::size_t nv = s.positions.size(), nf = s.faces.size();
   // Bucket the 3F face slots by their edge's smaller vertex, then sort each small bucket by
-  // (larger vertex, slot): edges come out sorted and each edge's faces ascending, in O(n).
-  std::vector<std::uint32_t> bucket(nv + 1, 0);
-  for (const glm::uvec4& f : s.faces)
-    for (int i = 0; i < 3; ++i) ++bucket[std::min(f[i], f[(i + 1) % 3]) + 1];
-  std::partial_sum(bucket.begin(), bucket.end(), bucket.begin());
+  // (larger vertex, slot): edges come out sorted and each edge's faces ascending, in O(n). The
+  // buckets are sorted and emitted by ranges of vertices side by side: a first pass counts each
+  // range's edges, a second writes them where the ranges before them end.
   std::vector<std::uint64_t> slots(3 * nf);
-  std::vector<std::uint32_t> cursor(bucket.begin(), bucket.end() - 1);
-  for (std::uint32_t f = 0; f < nf; ++f)
-    for (std::uint32_t i = 0; i < 3; ++i) {
-      const std::uint32_t a = s.faces[f][i], b = s.faces[f][(i + 1) % 3];
-      slots[cursor[std::min(a, b)]++] = (std::uint64_t(std::max(a, b)) << 32) | (3 * f + i);
+  const std::vector<std::uint32_t> bucket = counting_sort(
+      nf, nv,
+      [&](std::uint32_t f, auto&& emit) {
+        for (std::uint32_t i = 0; i < 3; ++i) emit(std::min(s.faces[f][i], s.faces[f][(i + 1) % 3]), i);
+      },
+      [&](std::uint32_t f, std::uint32_t i, std::uint32_t pos) {
+        const std::uint32_t a = s.faces[f][i], b = s.faces[f][(i + 1) % 3];
+        slots[pos] = (std::uint64_t(std::max(a, b)) << 32) | (3 * f + i);
+      });
+  const std::size_t chunks = nf < kParallelFaces ? 1 : chunk_count(nv, 2048);
+  std::vector<std::uint32_t> first_edge(chunks + 1, 0);
+  auto new_edge = [&](std::uint32_t k, std::uint32_t a) {
+    return k == bucket[a] || std::uint32_t(slots[k - 1] >> 32) != std::uint32_t(slots[k] >> 32);
+  };
+  parallel_chunks(nv, chunks, kThreads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    for (auto a = std::uint32_t(begin); a < end; ++a) {
+      std::sort(slots.begin() + bucket[a], slots.begin() + bucket[a + 1]);
+      for (std::uint32_t k = bucket[a]; k < bucket[a + 1]; ++k) first_edge[c + 1] += new_edge(k, a) ? 1 : 0;
     }
-  s.edges.clear();
-  s.ef_offsets.assign(1, 0);
+  });
+  std::partial_sum(first_edge.begin(), first_edge.end(), first_edge.begin());
+  s.edges.resize(first_edge.back());
+  s.ef_offsets.resize(first_edge.back() + 1);
+  s.ef_offsets.back() = std::uint32_t(3 * nf);
   s.ef_faces.resize(3 * nf);
   s.face_edges.resize(3 * nf);
-  for (std::uint32_t a = 0; a < nv; ++a) {
-    std::sort(slots.begin() + bucket[a], slots.begin() + bucket[a + 1]);
-    for (std::uint32_t k = bucket[a]; k < bucket[a + 1]; ++k) {
-      const auto b = std::uint32_t(slots[k] >> 32), slot = std::uint32_t(slots[k]);
-      if (k == bucket[a] || std::uint32_t(slots[k - 1] >> 32) != b) {
-        s.edges.emplace_back(a, b);
-        s.ef_offsets.push_back(s.ef_offsets.back());
+  parallel_chunks(nv, chunks, kThreads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    std::uint32_t e = first_edge[c];
+    for (auto a = std::uint32_t(begin); a < end; ++a)
+      for (std::uint32_t k = bucket[a]; k < bucket[a + 1]; ++k) {
+        const auto b = std::uint32_t(slots[k] >> 32), slot = std::uint32_t(slots[k]);
+        if (new_edge(k, a)) s.edges[e] = glm::uvec2(a, b), s.ef_offsets[e++] = k;
+        s.ef_faces[k] = slot / 3;
+        s.face_edges[slot] = e - 1;
       }
-      s.ef_faces[s.ef_offsets.back()++] = slot / 3;
-      s.face_edges[slot] = std::uint32_t(s.edges.size() - 1);
-    }
-  }
+  });
   s.edge_special.resize(s.edges.size());
   for (std::size_t e = 0; e < s.edges.size(); ++e) {
     const std::uint32_t n = s.ef_offsets[e + 1] - s.ef_offsets[e];
