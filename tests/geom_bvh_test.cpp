@@ -121,6 +121,28 @@ TEST(GeomBvh, ThreadedBuildGivesTheSameAnswers) {
   EXPECT_EQ(a.size(), brute);
 }
 
+// Boxes on a coarse lattice share their Morton codes: the two-thread radix sort must keep ties
+// in id order as the one-thread sort does.
+TEST(GeomBvh, ThreadedBuildKeepsTiesInIdOrder) {
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<int> cell(0, 3);
+  std::vector<Aabb> boxes(40000);
+  for (Aabb& box : boxes) {
+    const dvec3 c(cell(rng), cell(rng), cell(rng));
+    box = Aabb{c - 0.25, c + 0.25};
+  }
+  fracref::BvhOptions two;
+  two.threads = 2;
+  const Bvh serial = fracref::build_bvh(boxes), threaded = fracref::build_bvh(boxes, two);
+  EXPECT_EQ(serial.items, threaded.items);
+  ASSERT_EQ(serial.nodes.size(), threaded.nodes.size());
+  // Items of one lattice cell (one code) come out consecutive and in ascending id order.
+  for (std::size_t k = 1; k < threaded.items.size(); ++k) {
+    const Aabb &a = boxes[threaded.items[k - 1]], &b = boxes[threaded.items[k]];
+    if (a.lo == b.lo) EXPECT_LT(threaded.items[k - 1], threaded.items[k]) << "at " << k;
+  }
+}
+
 TEST(GeomBvh, ClosestPointMatchesBruteForce) {
   std::mt19937_64 rng(9);
   const auto soup = random_soup(rng, 400);

@@ -5,6 +5,7 @@
 #include <numeric>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include "geom/bvh_traverse.hpp"
 #include "geom/morton.hpp"
@@ -34,24 +35,48 @@ struct Keyed {
 
 constexpr int kGridBits = 10;
 
-void radix_sort(std::vector<Keyed>& items) {
+// Below this many items the builds run on one thread (a thread costs more than it saves).
+constexpr std::size_t kParallelItems = 8192;
+
+// Stable LSD radix sort. Each pass's counting and scattering are split into `parts` contiguous
+// ranges of the items, each scattering after the ranges before it within every digit: the same
+// order as one part.
+void radix_sort(std::vector<Keyed>& items, int threads) {
   constexpr int kBits = kGridBits, kPasses = 3;
+  constexpr std::uint32_t kDigits = 1u << kBits, kMask = kDigits - 1;
+  const std::size_t parts = threads >= 2 && items.size() >= kParallelItems ? 2 : 1;
   std::vector<Keyed> scratch(items.size());
-  std::vector<std::uint32_t> count((1u << kBits) + 1);
+  std::vector<std::vector<std::uint32_t>> count(parts, std::vector<std::uint32_t>(kDigits));
   for (int pass = 0; pass < kPasses; ++pass) {
     const int shift = pass * kBits;
-    std::fill(count.begin(), count.end(), 0u);
-    for (const Keyed& k : items) ++count[((k.code >> shift) & ((1u << kBits) - 1)) + 1];
-    if (*std::max_element(count.begin(), count.end()) == items.size()) continue;  // one digit: nothing moves
-    for (std::size_t d = 1; d < count.size(); ++d) count[d] += count[d - 1];
-    for (const Keyed& k : items) scratch[count[(k.code >> shift) & ((1u << kBits) - 1)]++] = k;
+    parallel_chunks(items.size(), parts, threads, [&](std::size_t p, std::size_t begin, std::size_t end) {
+      std::fill(count[p].begin(), count[p].end(), 0u);
+      for (std::size_t i = begin; i < end; ++i) ++count[p][(items[i].code >> shift) & kMask];
+    });
+    std::uint32_t at = 0;
+    bool one_digit = false;
+    for (std::uint32_t d = 0; d < kDigits; ++d) {
+      std::uint32_t total = 0;
+      for (auto& c : count) total += c[d];
+      one_digit = one_digit || total == items.size();
+      for (auto& c : count) at += std::exchange(c[d], at);
+    }
+    if (one_digit) continue;  // one digit: nothing moves
+    parallel_chunks(items.size(), parts, threads, [&](std::size_t p, std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) scratch[count[p][(items[i].code >> shift) & kMask]++] = items[i];
+    });
     items.swap(scratch);
   }
 }
 
 std::vector<Keyed> morton_sorted(const std::vector<Aabb>& boxes, int threads) {
+  const std::size_t parts = threads >= 2 && boxes.size() >= kParallelItems ? 2 : 1;
+  std::vector<Aabb> part_bounds(parts);
+  parallel_chunks(boxes.size(), parts, threads, [&](std::size_t p, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) part_bounds[p].expand(boxes[i].lo + boxes[i].hi);
+  });
   Aabb bounds;
-  for (const Aabb& b : boxes) bounds.expand(b.lo + b.hi);
+  for (const Aabb& b : part_bounds) bounds.expand(b);
   const dvec3 ext = bounds.hi - bounds.lo;
   const double side = std::max({ext.x, ext.y, ext.z});
   const double top = double((1u << kGridBits) - 1);
@@ -64,9 +89,9 @@ std::vector<Keyed> morton_sorted(const std::vector<Aabb>& boxes, int threads) {
                   std::uint32_t(i)};
     }
   };
-  parallel_chunks(boxes.size(), boxes.size() < 8192 ? 1 : 2, threads,
+  parallel_chunks(boxes.size(), parts, threads,
                   [&](std::size_t, std::size_t begin, std::size_t end) { code(begin, end); });
-  radix_sort(items);  // stable: ties stay in id order
+  radix_sort(items, threads);  // stable: ties stay in id order
   return items;
 }
 
@@ -215,6 +240,17 @@ ClosestPoint closest_point_on_triangle(const dvec3& p, const dvec3& a, const dve
   return result(p, a + ab * v + ac * w, {1 - v - w, v, w});
 }
 
+std::vector<Aabb> triangle_boxes(const std::vector<dvec3>& positions,
+                                 const std::vector<std::array<std::uint32_t, 3>>& triangles, int threads) {
+  std::vector<Aabb> boxes(triangles.size());
+  const std::size_t chunks = threads >= 2 && boxes.size() >= kParallelItems ? chunk_count(boxes.size(), 4096) : 1;
+  parallel_chunks(boxes.size(), chunks, threads, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
+      for (std::uint32_t v : triangles[t]) boxes[t].expand(positions[v]);
+  });
+  return boxes;
+}
+
 Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options) {
   Bvh bvh;
   const auto n = static_cast<std::uint32_t>(boxes.size());
@@ -223,7 +259,7 @@ Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options) {
   const std::vector<Keyed> refs = morton_sorted(boxes, options.threads);
   bvh.items.resize(n);
   bvh.leaf_boxes.resize(n);
-  if (options.threads < 2 || n < 8192 || n <= leaf) {
+  if (options.threads < 2 || n < kParallelItems || n <= leaf) {
     bvh.nodes = build_subtree(refs, boxes, 0, n, leaf, bvh);
   } else {
     // The two halves of the root touch disjoint ranges of refs: build them side by side and
@@ -245,15 +281,12 @@ Bvh build_bvh(const std::vector<dvec3>& positions, const std::vector<std::array<
   for (std::size_t v = 0; v < positions.size(); ++v)
     if (!std::isfinite(positions[v].x) || !std::isfinite(positions[v].y) || !std::isfinite(positions[v].z))
       throw InputError("vertex " + std::to_string(v) + ": coordinate is not finite");
-  std::vector<Aabb> boxes(triangles.size());
   for (std::size_t t = 0; t < triangles.size(); ++t)
-    for (std::uint32_t v : triangles[t]) {
+    for (std::uint32_t v : triangles[t])
       if (v >= positions.size())
         throw InputError("triangle " + std::to_string(t) + ": vertex index " + std::to_string(v) +
                          " out of range (" + std::to_string(positions.size()) + " vertices)");
-      boxes[t].expand(positions[v]);
-    }
-  Bvh bvh = build_bvh(boxes, options);
+  Bvh bvh = build_bvh(triangle_boxes(positions, triangles, options.threads), options);
   bvh.positions = positions;
   bvh.triangles = triangles;
   return bvh;

@@ -63,6 +63,10 @@ struct BvhOptions {
 /// \pre finite boxes.
 Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options = {});
 
+/// The boxes of a mesh's triangles, on up to `threads` threads. \pre indices in range.
+std::vector<Aabb> triangle_boxes(const std::vector<glm::dvec3>& positions,
+                                 const std::vector<std::array<std::uint32_t, 3>>& triangles, int threads = 1);
+
 /// Builds the tree over the triangles of a mesh (item id = triangle index) and keeps a copy of
 /// the mesh. \throw InputError when a triangle has a vertex index out of range or a vertex a
 /// non-finite coordinate (names it).

@@ -167,17 +167,19 @@ struct StepTrees {
   template <std::size_t N>
   Bvh build(const std::vector<std::array<std::uint32_t, N>>& elements, const std::vector<std::uint32_t>* subset,
             double g) const {
-    const std::size_t n = subset ? subset->size() : elements.size();
-    std::vector<Aabb> boxes(n);
-    for (std::size_t k = 0; k < n; ++k) boxes[k] = swept_box(x0, x1, elements[subset ? (*subset)[k] : k], g);
-    BvhOptions o;
-    o.leaf_size = kLeaf;
-    o.threads = threads;
-    return build_bvh(boxes, o);
+    return tree(subset ? subset->size() : elements.size(),
+                [&](std::size_t k) { return swept_box(x0, x1, elements[subset ? (*subset)[k] : k], g); });
   }
   Bvh vertices(const std::vector<std::uint32_t>& ids) const {
-    std::vector<Aabb> boxes(ids.size());
-    for (std::size_t k = 0; k < ids.size(); ++k) boxes[k] = swept_box(x0, x1, std::array<std::uint32_t, 1>{ids[k]}, 0.0);
+    return tree(ids.size(), [&](std::size_t k) { return swept_box(x0, x1, std::array<std::uint32_t, 1>{ids[k]}, 0.0); });
+  }
+  // The tree over box(0 .. n-1), the boxes computed on the threads too.
+  template <class Box>
+  Bvh tree(std::size_t n, const Box& box) const {
+    std::vector<Aabb> boxes(n);
+    parallel_chunks(n, chunk_count(n, 4096), threads, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) boxes[k] = box(k);
+    });
     BvhOptions o;
     o.leaf_size = kLeaf;
     o.threads = threads;

@@ -126,7 +126,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> meeting_faces(const std::ve
   BvhOptions o;
   o.leaf_size = kFlipTreeLeaf;
   o.threads = threads;
-  const Bvh tree = build_bvh(x, picked, o);
+  const Bvh tree = build_bvh(triangle_boxes(x, picked, threads), o);
   using Pair = std::pair<std::uint32_t, std::uint32_t>;
   auto out = collect_overlaps<Pair>(tree, all, false, threads, [&](std::uint32_t k, std::uint32_t j, std::vector<Pair>& found) {
     if (query[k] != j && mesh_faces_intersect(x, faces[query[k]], faces[j])) found.emplace_back(query[k], j);
@@ -199,7 +199,7 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
   tree_options.leaf_size = kFlipTreeLeaf;
   // The faces' boxes after the flips. A face restored by an undo keeps its flipped box here, so
   // only pairs of two restored faces could be missed, and those were both S's: they cannot meet.
-  const Bvh all = build_bvh(x, faces, tree_options);
+  const Bvh all = build_bvh(triangle_boxes(x, faces, o.threads), tree_options);
   std::vector<char> flipped(faces.size(), 0);
   for (const Made& m : made) flipped[m.faces[0]] = flipped[m.faces[1]] = 1;
   std::vector<std::uint32_t> check;
