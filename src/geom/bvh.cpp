@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <string>
 #include <thread>
@@ -251,6 +252,36 @@ std::vector<Aabb> triangle_boxes(const std::vector<dvec3>& positions,
   return boxes;
 }
 
+namespace {
+
+float round_down(double x) {
+  const float f = static_cast<float>(x);
+  return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+
+float round_up(double x) {
+  const float f = static_cast<float>(x);
+  return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
+void fill_float_boxes(Bvh& bvh, int threads) {
+  const std::size_t n = bvh.leaf_boxes.size(), padded = n + FloatLeafBoxes::kLanes;
+  for (int a = 0; a < 3; ++a) {
+    bvh.float_boxes.lo[a].assign(padded, std::numeric_limits<float>::infinity());
+    bvh.float_boxes.hi[a].assign(padded, -std::numeric_limits<float>::infinity());
+  }
+  const std::size_t chunks = threads >= 2 && n >= kParallelItems ? chunk_count(n, 4096) : 1;
+  parallel_chunks(n, chunks, threads, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k)
+      for (int a = 0; a < 3; ++a) {
+        bvh.float_boxes.lo[a][k] = round_down(bvh.leaf_boxes[k].lo[a]);
+        bvh.float_boxes.hi[a][k] = round_up(bvh.leaf_boxes[k].hi[a]);
+      }
+  });
+}
+
+}  // namespace
+
 Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options) {
   Bvh bvh;
   const auto n = static_cast<std::uint32_t>(boxes.size());
@@ -273,6 +304,7 @@ Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options) {
     bvh.nodes[0].box = bvh.nodes[1].box;
     bvh.nodes[0].box.expand(bvh.nodes[2].box);
   }
+  fill_float_boxes(bvh, options.threads);
   return bvh;
 }
 

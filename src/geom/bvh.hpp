@@ -39,12 +39,22 @@ struct BvhNode {
   std::uint32_t count = 0;
 };
 
+/// The leaf boxes again in single precision, rounded outward (each contains its double box), one
+/// array per bound and axis in leaf order and padded with kLanes empty boxes: the traversals test
+/// a box against a leaf's boxes kLanes at a time this way, and only the boxes that pass it
+/// exactly in double, so their answers are those of the double boxes alone.
+struct FloatLeafBoxes {
+  static constexpr std::uint32_t kLanes = 8;
+  std::vector<float> lo[3], hi[3];
+};
+
 /// The tree. nodes[0] is the root (no nodes when built from nothing). The triangle overload of
 /// build_bvh also keeps the mesh, which closest_point and point_in_mesh read.
 struct Bvh {
   std::vector<BvhNode> nodes;
   std::vector<std::uint32_t> items;  ///< item ids in leaf order
   std::vector<Aabb> leaf_boxes;      ///< box of items[k] at k (leaf order: a leaf's boxes are contiguous)
+  FloatLeafBoxes float_boxes;        ///< leaf_boxes rounded outward to float
   std::vector<glm::dvec3> positions;
   std::vector<std::array<std::uint32_t, 3>> triangles;
 };

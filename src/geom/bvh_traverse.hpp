@@ -6,6 +6,10 @@
 #include <utility>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "geom/bvh.hpp"
 #include "util/parallel.hpp"
 
@@ -42,21 +46,67 @@ inline bool expand(const Bvh& a, const Bvh& b, bool self, NodePair p, std::vecto
   return true;
 }
 
+// The query box rounded outward to float, as FloatLeafBoxes holds its boxes.
+struct FloatBox {
+  float lo[3], hi[3];
+};
+
+inline FloatBox float_box(const FloatLeafBoxes& f, std::uint32_t k) {
+  return {{f.lo[0][k], f.lo[1][k], f.lo[2][k]}, {f.hi[0][k], f.hi[1][k], f.hi[2][k]}};
+}
+
+// Bit l set when box q and the float box at base + l overlap (closed), l < kLanes. A superset
+// of the double boxes' overlaps, as the float boxes contain them.
+inline unsigned float_overlap_mask(const FloatLeafBoxes& f, std::uint32_t base, const FloatBox& q) {
+#if defined(__SSE2__)
+  unsigned mask = 0;
+  for (std::uint32_t half = 0; half < FloatLeafBoxes::kLanes; half += 4) {
+    __m128 in = _mm_castsi128_ps(_mm_set1_epi32(-1));
+    for (int a = 0; a < 3; ++a) {
+      in = _mm_and_ps(in, _mm_cmple_ps(_mm_loadu_ps(&f.lo[a][base + half]), _mm_set1_ps(q.hi[a])));
+      in = _mm_and_ps(in, _mm_cmple_ps(_mm_set1_ps(q.lo[a]), _mm_loadu_ps(&f.hi[a][base + half])));
+    }
+    mask |= unsigned(_mm_movemask_ps(in)) << half;
+  }
+  return mask;
+#else
+  unsigned mask = 0;
+  for (std::uint32_t l = 0; l < FloatLeafBoxes::kLanes; ++l) {
+    bool in = true;
+    for (int a = 0; a < 3; ++a) in = in && f.lo[a][base + l] <= q.hi[a] && q.lo[a] <= f.hi[a][base + l];
+    mask |= unsigned(in) << l;
+  }
+  return mask;
+#endif
+}
+
+// Every pair of a leaf's item and b leaf's item whose boxes overlap, in the order of a plain
+// double loop: a float test of each a box against b's boxes kLanes at a time, then the exact
+// double test of those it lets through.
 template <class Visit>
 void visit_leaves(const Bvh& a, const Bvh& b, bool self, NodePair p, Visit& visit) {
+  constexpr std::uint32_t kLanes = FloatLeafBoxes::kLanes;
   const BvhNode& x = a.nodes[p.a];
   const BvhNode& y = b.nodes[p.b];
+  const std::uint32_t end = y.first + y.count;
   for (std::uint32_t k = x.first; k < x.first + x.count; ++k) {
     const std::uint32_t i = a.items[k];
     const Aabb& box = a.leaf_boxes[k];
+    const FloatBox q = float_box(a.float_boxes, k);
     const std::uint32_t l0 = self && p.a == p.b ? k + 1 : y.first;
-    for (std::uint32_t l = l0; l < y.first + y.count; ++l) {
-      if (!box.overlaps(b.leaf_boxes[l])) continue;
-      const std::uint32_t j = b.items[l];
-      if (self)
-        visit(std::min(i, j), std::max(i, j));
-      else
-        visit(i, j);
+    for (std::uint32_t base = l0; base < end; base += kLanes) {
+      unsigned mask = float_overlap_mask(b.float_boxes, base, q);
+      if (end - base < kLanes) mask &= (1u << (end - base)) - 1u;
+      while (mask != 0) {
+        const std::uint32_t l = base + std::uint32_t(__builtin_ctz(mask));
+        mask &= mask - 1u;
+        if (!box.overlaps(b.leaf_boxes[l])) continue;
+        const std::uint32_t j = b.items[l];
+        if (self)
+          visit(std::min(i, j), std::max(i, j));
+        else
+          visit(i, j);
+      }
     }
   }
 }
