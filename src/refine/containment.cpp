@@ -6,10 +6,13 @@
 
 #include "geom/face_guard.hpp"
 #include "refine/collisions.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 namespace {
 
+// Threads deciding the tuck splits (the splits made do not depend on it).
+constexpr int kThreads = 2;
 
 glm::dvec3 at(const FractureSurface& s, std::uint32_t v) { return glm::dvec3(glm::vec3(s.positions[v])); }
 
@@ -169,52 +172,79 @@ glm::dvec3 inside_target(const ExteriorSurface& b, const glm::dvec3& x, double m
 // Distance to B is 1-Lipschitz: an edge between two inside vertices whose distances to B add up
 // to more than its length stays inside B, and so does a face whose corners are all inside,
 // farther from B than its longest edge; their samples need no queries. Per vertex: its distance
-// to B when inside, -1 when outside or on the rim (computed on first use).
+// to B when inside, -1 when outside or on the rim (every vertex's, computed up front on the
+// threads: the passes below ask for nearly all of them).
 class SurelyInside {
  public:
-  SurelyInside(const FractureSurface& s, const ExteriorSurface& b) : s_(s), b_(b), clearance_(s.positions.size(), kUnknown) {}
-  bool edge(std::uint32_t e) {
+  SurelyInside(const FractureSurface& s, const ExteriorSurface& b) : s_(s), clearance_(s.positions.size()) {
+    parallel_chunks(clearance_.size(), chunk_count(clearance_.size(), 64), kThreads,
+                    [&](std::size_t, std::size_t begin, std::size_t end) {
+                      for (std::size_t v = begin; v < end; ++v) {
+                        const glm::dvec3 x = at(s_, std::uint32_t(v));
+                        clearance_[v] = (s_.vertex_flags[v] & kVertexBoundary) || !b.contains(x)
+                                            ? -1.0
+                                            : std::sqrt(b.squared_distance(x));
+                      }
+                    });
+  }
+  bool edge(std::uint32_t e) const {
     const glm::uvec2 ab = s_.edges[e];
     const double da = clearance(ab.x), db = clearance(ab.y);
     return da >= 0.0 && db >= 0.0 && da + db > glm::distance(at(s_, ab.x), at(s_, ab.y)) * (1.0 + 1e-9);
   }
-  bool face(std::uint32_t f) {
+  bool face(std::uint32_t f) const {
     const glm::uvec4 x = s_.faces[f];
     const double nearest = std::min({clearance(x.x), clearance(x.y), clearance(x.z)});
     return nearest >= 0.0 && nearest > longest_edge(s_, x) * (1.0 + 1e-9);
   }
   /// Distance from v to B when v is inside B and not on the rim, else -1.
-  double clearance(std::uint32_t v) {
-    double& c = clearance_[v];
-    if (c != kUnknown) return c;
-    const glm::dvec3 x = at(s_, v);
-    c = (s_.vertex_flags[v] & kVertexBoundary) || !b_.contains(x) ? -1.0 : std::sqrt(b_.squared_distance(x));
-    return c;
-  }
+  double clearance(std::uint32_t v) const { return clearance_[v]; }
 
  private:
-  static constexpr double kUnknown = -2.0;
   const FractureSurface& s_;
-  const ExteriorSurface& b_;
   std::vector<double> clearance_;
+};
+
+// find(k) for every k < n on the threads (each decided alone: the queries against B are most of
+// a pass), the found splits in k order, so the batch below takes them as a serial loop would.
+template <class T, class Find>
+std::vector<T> found_in_order(std::size_t n, const Find& find) {
+  const std::size_t chunks = chunk_count(n, 16);
+  std::vector<std::vector<T>> parts(chunks);
+  parallel_chunks(n, chunks, kThreads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k)
+      if (std::optional<T> t = find(std::uint32_t(k))) parts[c].push_back(*t);
+  });
+  std::vector<T> out;
+  for (auto& part : parts) out.insert(out.end(), part.begin(), part.end());
+  return out;
+}
+
+struct EdgeSplit {
+  std::uint32_t element;  // the edge, or for a rim face the face
+  std::uint32_t edge;
+  float t;
+  glm::dvec3 q;
 };
 
 // Splits of the interior edges that leave B; returns the number of splits.
 std::size_t tuck_edges(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
-  SplitBatch batch(s);
-  SurelyInside inside(s, b);
-  for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
+  const SurelyInside inside(s, b);
+  const auto found = found_in_order<EdgeSplit>(s.edges.size(), [&](std::uint32_t e) -> std::optional<EdgeSplit> {
     float t = 0.0f;
     const glm::uvec2 ab = s.edges[e];
-    if (s.edge_special[e] == kEdgeBoundary || batch.busy_edge(e) || inside.edge(e) ||
+    if (s.edge_special[e] == kEdgeBoundary || inside.edge(e) ||
         deepest_outside_on_edge(s, e, b, o.sample_grid, t, {inside.clearance(ab.x), inside.clearance(ab.y)}) == 0.0)
-      continue;
+      return std::nullopt;
     const double length = glm::distance(at(s, ab.x), at(s, ab.y));
-    if (length <= 2.0 * o.min_edge * o.scale) continue;
+    if (length <= 2.0 * o.min_edge * o.scale) return std::nullopt;
     const glm::dvec3 q = inside_target(b, (1.0 - t) * at(s, ab.x) + double(t) * at(s, ab.y),
                                        std::min(o.margin * o.scale, 0.1 * length));
-    if (b.contains(q)) batch.add_edge(e, t, q);
-  }
+    if (!b.contains(q)) return std::nullopt;
+    return EdgeSplit{e, e, t, q};
+  });
+  SplitBatch batch(s);
+  for (const EdgeSplit& c : found) batch.add_edge(c.edge, c.t, c.q);
   return batch.apply(s, tree);
 }
 
@@ -224,10 +254,9 @@ std::size_t tuck_edges(FractureSurface& s, RefinementTree& tree, const ExteriorS
 // with every chord inside has its longest boundary edge split at the midpoint: a finer rim
 // follows B more closely. Returns the number of splits.
 std::size_t tuck_rim_edges(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
-  SplitBatch batch(s);
-  SurelyInside inside(s, b);
-  for (std::uint32_t f = 0; f < s.faces.size(); ++f) {
-    if (batch.busy_face(f) || inside.face(f) || !face_meets_exterior(s, f, b)) continue;
+  const SurelyInside inside(s, b);
+  const auto found = found_in_order<EdgeSplit>(s.faces.size(), [&](std::uint32_t f) -> std::optional<EdgeSplit> {
+    if (inside.face(f) || !face_meets_exterior(s, f, b)) return std::nullopt;
     std::uint32_t edge = kNoEdge, longest = kNoEdge;
     double deepest = 0.0, longest_length = 0.0;
     for (int k = 0; k < 3; ++k) {
@@ -240,27 +269,37 @@ std::size_t tuck_rim_edges(FractureSurface& s, RefinementTree& tree, const Exter
       if (d > deepest) deepest = d, edge = e;
     }
     if (edge == kNoEdge) edge = longest;  // the face meets B off its chords: refine its rim
-    if (edge == kNoEdge) continue;
+    if (edge == kNoEdge) return std::nullopt;
     const glm::uvec2 ab = s.edges[edge];
-    batch.add_edge(edge, 0.5f, b.closest_point(0.5 * (at(s, ab.x) + at(s, ab.y))));
-  }
+    return EdgeSplit{f, edge, 0.5f, b.closest_point(0.5 * (at(s, ab.x) + at(s, ab.y)))};
+  });
+  SplitBatch batch(s);
+  for (const EdgeSplit& c : found)
+    if (!batch.busy_face(c.element)) batch.add_edge(c.edge, c.t, c.q);
   return batch.apply(s, tree);
 }
 
 // Splits of the faces whose inside leaves B; returns the number of splits.
 std::size_t tuck_faces(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o) {
-  SplitBatch batch(s);
-  SurelyInside inside(s, b);
-  for (std::uint32_t f = 0; f < s.faces.size(); ++f) {
-    if (inside.face(f) || !face_meets_exterior(s, f, b)) continue;
+  struct FaceSplit {
+    std::uint32_t face;
+    glm::vec3 w;
+    glm::dvec3 q;
+  };
+  const SurelyInside inside(s, b);
+  const auto found = found_in_order<FaceSplit>(s.faces.size(), [&](std::uint32_t f) -> std::optional<FaceSplit> {
+    if (inside.face(f) || !face_meets_exterior(s, f, b)) return std::nullopt;
     glm::vec3 w(0.0f);
-    if (!deepest_outside(s, f, b, o.sample_grid, w)) continue;
+    if (!deepest_outside(s, f, b, o.sample_grid, w)) return std::nullopt;
     const glm::uvec4 face = s.faces[f];
-    if (longest_edge(s, face) <= 2.0 * o.min_edge * o.scale) continue;
+    if (longest_edge(s, face) <= 2.0 * o.min_edge * o.scale) return std::nullopt;
     const glm::dvec3 x = double(w.x) * at(s, face.x) + double(w.y) * at(s, face.y) + double(w.z) * at(s, face.z);
     const glm::dvec3 q = inside_target(b, x, std::min(o.margin * o.scale, 0.2 * shortest_edge(s, face)));
-    if (b.contains(q)) batch.add_face(f, w, q);
-  }
+    if (!b.contains(q)) return std::nullopt;
+    return FaceSplit{f, w, q};
+  });
+  SplitBatch batch(s);
+  for (const FaceSplit& c : found) batch.add_face(c.face, c.w, c.q);
   return batch.apply(s, tree);
 }
 
