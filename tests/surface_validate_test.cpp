@@ -213,6 +213,25 @@ std::string make_error(std::vector<glm::vec4> positions, std::vector<glm::uvec4>
   return "no InputError";
 }
 
+// On a surface large enough that the duplicate search runs beside the later checks, a duplicate
+// face is still reported before them (the appended face also leaves the derived arrays stale),
+// and without it the later checks still find a stale array.
+TEST(SurfaceValidate, LargeSurfaceReportsTheDuplicateFirst) {
+  const FractureSurface sheet = example_sheet(80);
+  ASSERT_GT(sheet.faces.size(), 10000u);
+  FractureSurface s = sheet;
+  const glm::uvec4 f = s.faces[5];
+  s.faces.push_back({f.y, f.z, f.x, 0});
+  s.face_pieces.push_back(s.face_pieces[5]);
+  EXPECT_EQ(validate(s), "face " + std::to_string(sheet.faces.size()) + ": duplicate of face 5 (vertices " +
+                             std::to_string(f.y) + " " + std::to_string(f.z) + " " + std::to_string(f.x) + ")");
+  EXPECT_EQ(validate_rebuilt(s).substr(0, 5), "face ");
+  s = sheet;
+  s.edge_special[0] = kEdgeNonManifold;
+  EXPECT_NE(validate(s), "");
+  EXPECT_EQ(validate(sheet), "");
+}
+
 TEST(SurfaceMake, InputErrorsNameTheFaceOrVertex) {
   const std::vector<glm::vec4> quad = {{0, 0, 0, 1}, {1, 0, 0, 1}, {1, 1, 0, 1}, {0, 1, 0, 1}};
   const std::vector<glm::ivec2> pieces = {{1, 0}, {1, 0}};

@@ -2,6 +2,8 @@
 // broken one is reported with the indices a user needs to find it.
 #include <algorithm>
 #include <cmath>
+#include <future>
+#include <initializer_list>
 #include <sstream>
 
 #include "surface/surface_internal.hpp"
@@ -66,11 +68,15 @@ std::string check_face(const FractureSurface& s, std::size_t f) {
   return "";
 }
 
+// Each face alone (indices in range, which every later check reads through); the duplicates
+// are checked after it (check_duplicate_faces).
 std::string check_faces(const FractureSurface& s) {
   for (std::size_t f = 0; f < s.faces.size(); ++f)
     if (std::string m = check_face(s, f); !m.empty()) return m;
-  return surface_detail::first_duplicate_face(s.faces);
+  return "";
 }
+
+std::string check_duplicate_faces(const FractureSurface& s) { return surface_detail::first_duplicate_face(s.faces); }
 
 // A CSR whose offsets cannot be followed safely is reported before anything reads through it.
 std::string check_csr(const std::string& name, const std::vector<std::uint32_t>& offsets, std::size_t rows,
@@ -297,11 +303,26 @@ namespace {
 
 using Check = std::string (*)(const FractureSurface&);
 
-// The invariants in validate()'s order; `derived` checks the derived arrays.
-std::string first_problem(const FractureSurface& s, Check derived) {
-  for (Check check : {check_primary_sizes, check_vertices, check_faces, derived, check_component_pieces, check_piece_edges})
+// Below this many faces the checks after the faces' run on one thread.
+constexpr std::size_t kParallelFaces = 8192;
+
+std::string first_of(const FractureSurface& s, std::initializer_list<Check> checks) {
+  for (Check check : checks)
     if (std::string m = check(s); !m.empty()) return m;
   return "";
+}
+
+// The invariants in validate()'s order; `derived` checks the derived arrays. Once every face's
+// indices are known to be in range, the search for duplicate faces (a sort of all of them) runs
+// beside the checks that follow it, and its message, if any, still comes first.
+std::string first_problem(const FractureSurface& s, Check derived) {
+  if (std::string m = first_of(s, {check_primary_sizes, check_vertices, check_faces}); !m.empty()) return m;
+  if (s.faces.size() < kParallelFaces)
+    return first_of(s, {check_duplicate_faces, derived, check_component_pieces, check_piece_edges});
+  auto duplicates = std::async(std::launch::async, [&s] { return check_duplicate_faces(s); });
+  std::string rest = first_of(s, {derived, check_component_pieces, check_piece_edges});
+  std::string m = duplicates.get();
+  return m.empty() ? rest : m;
 }
 
 }  // namespace
