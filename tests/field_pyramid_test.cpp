@@ -5,6 +5,7 @@
 #include <cstring>
 #include <random>
 
+#include "field/field_sampler.hpp"
 #include "field/pyramid.hpp"
 #include "util/error.hpp"
 
@@ -146,6 +147,36 @@ TEST(Pyramid, OneAndTwoThreadsAreBitIdentical) {
   }
   const Grid3 b1 = blur_cpu(base, 1.0f, 1), b2 = blur_cpu(base, 1.0f, 2);
   EXPECT_EQ(0, std::memcmp(b1.values.data(), b2.values.data(), b1.values.size() * sizeof(float)));
+}
+
+// precompute_field_gradient against its documented definition, evaluated point by point with
+// sample_trilinear: the same doubles in the same order, so the floats must be equal (levels with
+// odd dims, clamped samples at the borders, a coarse level of 2 nodes on one axis).
+TEST(FieldGradient, EqualsTheCentralDifferencesOfEveryLevel) {
+  PyramidOptions po;
+  po.levels = 4;
+  const std::vector<Grid3> pyramid = build_pyramid_cpu(random_grid({13, 9, 16}, 5), po);
+  const FieldGrid4 f = precompute_field_gradient(pyramid);
+  const Grid3& base = pyramid.front();
+  ASSERT_EQ(f.values.size(), base.size());
+  for (unsigned z = 0; z < base.dims.z; ++z)
+    for (unsigned y = 0; y < base.dims.y; ++y)
+      for (unsigned x = 0; x < base.dims.x; ++x) {
+        const glm::dvec3 p = base.node_position(x, y, z);
+        glm::dvec3 grad(0.0);
+        double value = 0.0;
+        for (const Grid3& level : pyramid) {
+          value += sample_trilinear(level, p);
+          for (int a = 0; a < 3; ++a) {
+            glm::dvec3 e(0.0);
+            e[a] = level.cell;
+            grad[a] += (sample_trilinear(level, p + e) - sample_trilinear(level, p - e)) / (2.0 * level.cell);
+          }
+        }
+        const double n = double(pyramid.size());
+        const glm::vec4 want(float(value / n), glm::vec3(grad / n));
+        ASSERT_EQ(f.values[base.index(x, y, z)], want) << "node " << x << " " << y << " " << z;
+      }
 }
 
 TEST(Pyramid, RejectsBadInput) {
