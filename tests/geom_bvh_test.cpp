@@ -167,6 +167,40 @@ TEST(GeomBvh, ClosestPointMatchesBruteForce) {
   }
 }
 
+// With a bound above the answer the bounded query gives the unbounded one's triangle and point
+// bit for bit (ties included: a grid mesh's shared vertices and edges are equally near to many
+// queries); with a bound at or below it, nothing.
+TEST(GeomBvh, BoundedClosestPointGivesTheSameAnswer) {
+  std::mt19937_64 rng(11);
+  std::vector<dvec3> positions;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  for (int y = 0; y <= 8; ++y)
+    for (int x = 0; x <= 8; ++x) positions.emplace_back(x, y, 0.0);
+  for (std::uint32_t y = 0; y < 8; ++y)
+    for (std::uint32_t x = 0; x < 8; ++x) {
+      const std::uint32_t v = 9 * y + x;
+      triangles.push_back({v, v + 1, v + 10});
+      triangles.push_back({v, v + 10, v + 9});
+    }
+  const auto soup = random_soup(rng, 300);
+  for (const auto& mesh : {std::make_pair(positions, triangles), std::make_pair(soup.positions, soup.triangles)}) {
+    const Bvh bvh = fracref::build_bvh(mesh.first, mesh.second);
+    std::uniform_int_distribution<int> cell(-2, 10);
+    std::uniform_real_distribution<double> q(-7.0, 7.0);
+    for (int it = 0; it < 600; ++it) {
+      const dvec3 p = it % 2 ? dvec3(q(rng), q(rng), q(rng)) : dvec3(cell(rng), cell(rng), 0.5 * cell(rng));
+      const auto want = fracref::closest_point(bvh, p);
+      for (double factor : {1.0 + 1e-12, 1.5, 100.0}) {
+        const auto got = fracref::closest_point(bvh, p, want.squared_distance * factor + 1e-300);
+        ASSERT_EQ(got.triangle, want.triangle) << it;
+        ASSERT_EQ(got.point, want.point) << it;
+        ASSERT_EQ(got.squared_distance, want.squared_distance) << it;
+      }
+      EXPECT_EQ(fracref::closest_point(bvh, p, want.squared_distance).squared_distance, INFINITY) << it;
+    }
+  }
+}
+
 TEST(GeomBvh, ClosestPointOnASphereIsRadial) {
   const auto sphere = fracref::make_uv_sphere({1, 2, 3}, 2.0, 48, 64);
   const Bvh bvh = fracref::build_bvh(sphere.positions, sphere.triangles);

@@ -343,8 +343,17 @@ void query_box(const Bvh& bvh, const Aabb& box, std::vector<std::uint32_t>& out)
 }
 
 ClosestPoint closest_point(const Bvh& bvh, const dvec3& query) {
+  return closest_point(bvh, query, std::numeric_limits<double>::infinity());
+}
+
+// A triangle replaces the best so far only when strictly nearer, and the traversal order does not
+// depend on the bound: a bound above the answer only skips subtrees that hold nothing as near, so
+// the first triangle met at the least distance is the same as without it.
+ClosestPoint closest_point(const Bvh& bvh, const dvec3& query, double bound) {
   ClosestPoint best;
   if (bvh.nodes.empty() || bvh.triangles.empty()) return best;
+  best.squared_distance = bound;
+  bool found = false;
   struct Entry {
     std::uint32_t node;
     double d2;
@@ -364,6 +373,7 @@ ClosestPoint closest_point(const Bvh& bvh, const dvec3& query) {
         if (c.squared_distance < best.squared_distance) {
           c.triangle = t;
           best = c;
+          found = true;
         }
       }
       continue;
@@ -379,6 +389,7 @@ ClosestPoint closest_point(const Bvh& bvh, const dvec3& query) {
       stack[top++] = r;
     }
   }
+  if (!found) best.squared_distance = std::numeric_limits<double>::infinity();
   return best;
 }
 

@@ -104,6 +104,11 @@ ClosestPoint closest_point_on_triangle(const glm::dvec3& p, const glm::dvec3& a,
 /// decides, deterministically. \pre the mesh has at least one triangle.
 ClosestPoint closest_point(const Bvh& bvh, const glm::dvec3& query);
 
+/// closest_point with a known bound: when the query's squared distance to the mesh is below
+/// `bound` the answer is the one closest_point gives (the same triangle and point; subtrees
+/// farther than the bound are skipped from the start), otherwise squared_distance is infinite.
+ClosestPoint closest_point(const Bvh& bvh, const glm::dvec3& query, double bound);
+
 /// Pairs (i, j) of an item i of `a` and an item j of `b` whose boxes overlap, sorted.
 /// Runs on `threads` threads; the result does not depend on their number.
 std::vector<std::pair<std::uint32_t, std::uint32_t>> overlapping_pairs(const Bvh& a, const Bvh& b, int threads = 2);
