@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <thread>
 
 #include "geom/bvh.hpp"
 #include "geom/ccd.hpp"
@@ -164,26 +165,41 @@ struct StepTrees {
   double grow;
   int threads;
 
+  // `with` threads build the tree (the tree does not depend on it).
   template <std::size_t N>
   Bvh build(const std::vector<std::array<std::uint32_t, N>>& elements, const std::vector<std::uint32_t>* subset,
-            double g) const {
-    return tree(subset ? subset->size() : elements.size(),
+            double g, int with) const {
+    return tree(subset ? subset->size() : elements.size(), with,
                 [&](std::size_t k) { return swept_box(x0, x1, elements[subset ? (*subset)[k] : k], g); });
   }
-  Bvh vertices(const std::vector<std::uint32_t>& ids) const {
-    return tree(ids.size(), [&](std::size_t k) { return swept_box(x0, x1, std::array<std::uint32_t, 1>{ids[k]}, 0.0); });
+  Bvh vertices(const std::vector<std::uint32_t>& ids, int with) const {
+    return tree(ids.size(), with,
+                [&](std::size_t k) { return swept_box(x0, x1, std::array<std::uint32_t, 1>{ids[k]}, 0.0); });
   }
   // The tree over box(0 .. n-1), the boxes computed on the threads too.
   template <class Box>
-  Bvh tree(std::size_t n, const Box& box) const {
+  Bvh tree(std::size_t n, int with, const Box& box) const {
     std::vector<Aabb> boxes(n);
-    parallel_chunks(n, chunk_count(n, 4096), threads, [&](std::size_t, std::size_t begin, std::size_t end) {
+    parallel_chunks(n, chunk_count(n, 4096), with, [&](std::size_t, std::size_t begin, std::size_t end) {
       for (std::size_t k = begin; k < end; ++k) boxes[k] = box(k);
     });
     BvhOptions o;
     o.leaf_size = kLeaf;
-    o.threads = threads;
+    o.threads = with;
     return build_bvh(boxes, o);
+  }
+  // Two builds side by side, each on one thread when there are two (a build's own two threads
+  // leave its serial parts, the sort's counts, the allocations, on one core).
+  template <class A, class B>
+  void side_by_side(const A& a, const B& b) const {
+    if (threads < 2) {
+      a(threads);
+      b(threads);
+      return;
+    }
+    std::thread other([&] { a(1); });
+    b(1);
+    other.join();
   }
 };
 
@@ -274,13 +290,17 @@ std::vector<Examined> vertex_triangle_pairs(const StepTrees& trees, const Tris& 
     out.insert(out.end(), rest.begin(), rest.end());
     return out;
   }
-  const Bvh tri_tree = trees.build(tris, nullptr, trees.grow);
+  Bvh tri_tree, moving_tree;
+  trees.side_by_side([&](int with) { tri_tree = trees.build(tris, nullptr, trees.grow, with); },
+                     [&](int with) { moving_tree = trees.vertices(m.moving_vertices, with); });
   auto out = collect_overlaps<Examined>(
-      trees.vertices(m.moving_vertices), tri_tree, false, trees.threads,
+      moving_tree, tri_tree, false, trees.threads,
       [&](std::uint32_t k, std::uint32_t t, std::vector<Examined>& found) { test(m.moving_vertices[k], t, found); });
   if (m.resting_vertices.empty() || m.moving_triangles.empty()) return out;
-  auto rest = collect_overlaps<Examined>(trees.vertices(m.resting_vertices),
-                                         trees.build(tris, &m.moving_triangles, trees.grow), false, trees.threads,
+  Bvh resting_tree, moving_tri_tree;
+  trees.side_by_side([&](int with) { resting_tree = trees.vertices(m.resting_vertices, with); },
+                     [&](int with) { moving_tri_tree = trees.build(tris, &m.moving_triangles, trees.grow, with); });
+  auto rest = collect_overlaps<Examined>(resting_tree, moving_tri_tree, false, trees.threads,
                                          [&](std::uint32_t k, std::uint32_t t, std::vector<Examined>& found) {
                                            test(m.resting_vertices[k], m.moving_triangles[t], found);
                                          });
@@ -315,14 +335,19 @@ std::vector<Examined> edge_edge_pairs(const StepTrees& trees, const std::vector<
           test(i, j, found);
         });
   }
-  const Bvh moving = trees.build(edges, &m.moving_edges, 0.5 * trees.grow);
+  Bvh moving, resting;
+  const bool rests = !m.resting_edges.empty() && !m.moving_edges.empty();
+  trees.side_by_side([&](int with) { moving = trees.build(edges, &m.moving_edges, 0.5 * trees.grow, with); },
+                     [&](int with) {
+                       if (rests) resting = trees.build(edges, &m.resting_edges, 0.5 * trees.grow, with);
+                     });
   auto out = collect_overlaps<Examined>(moving, moving, true, trees.threads,
                                         [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
                                           test(m.moving_edges[i], m.moving_edges[j], found);
                                         });
-  if (m.resting_edges.empty() || m.moving_edges.empty()) return out;
+  if (!rests) return out;
   auto rest =
-      collect_overlaps<Examined>(moving, trees.build(edges, &m.resting_edges, 0.5 * trees.grow), false, trees.threads,
+      collect_overlaps<Examined>(moving, resting, false, trees.threads,
                                  [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
                                    test(m.moving_edges[i], m.resting_edges[j], found);
                                  });
