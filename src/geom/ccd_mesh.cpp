@@ -93,9 +93,11 @@ std::vector<Aabb> swept_boxes(const std::vector<dvec3>& x0, const std::vector<dv
 
 // Each vertex's travel over the step, as ccd_vertex_triangle and ccd_edge_edge compute it: once
 // per vertex instead of once per corner of every pair tested.
-std::vector<double> travels(const std::vector<dvec3>& x0, const std::vector<dvec3>& x1) {
+std::vector<double> travels(const std::vector<dvec3>& x0, const std::vector<dvec3>& x1, int threads) {
   std::vector<double> out(x0.size());
-  for (std::size_t v = 0; v < x0.size(); ++v) out[v] = glm::length(x1[v] - x0[v]);
+  parallel_chunks(x0.size(), chunk_count(x0.size(), 8192), threads, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v) out[v] = glm::length(x1[v] - x0[v]);
+  });
   return out;
 }
 
@@ -390,7 +392,7 @@ std::vector<CcdPair> find_step_collisions(const std::vector<dvec3>& x0, const st
   check_positions(x1, "end");
   check_triangles(triangles, x0.size(), "mesh");
   check_flags(options.active_vertices, x0.size(), "active-vertex");
-  const std::vector<double> travel = travels(x0, x1);
+  const std::vector<double> travel = travels(x0, x1, options.threads);
   StepTrees trees{x0, x1, travel, std::max(0.0, options.ccd.min_distance), options.threads};
   const bool record = options.examined != nullptr;
   std::vector<Examined> found;
@@ -460,8 +462,13 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
   check_flags(options.active_vertices, x0.size(), "active-vertex");
   // Elements with an ignored vertex, or without an active one, take part in no pair.
   std::vector<std::uint8_t> take(x0.size(), 0);  // 0: no, 1: yes if not ignored, 2: ignored
-  for (std::size_t v = 0; v < x0.size(); ++v)
-    take[v] = (options.ignored_vertices && (*options.ignored_vertices)[v]) ? 2 : (is_active(x0, x1, options, v) ? 1 : 0);
+  parallel_chunks(x0.size(), chunk_count(x0.size(), 8192), options.threads,
+                  [&](std::size_t, std::size_t begin, std::size_t end) {
+                    for (std::size_t v = begin; v < end; ++v)
+                      take[v] = (options.ignored_vertices && (*options.ignored_vertices)[v])
+                                    ? 2
+                                    : (is_active(x0, x1, options, v) ? 1 : 0);
+                  });
   auto keep = [&](auto ids) {
     bool any = false;
     for (std::uint32_t v : ids) {
@@ -479,7 +486,7 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
   std::vector<Edge> edges;
   for (const Edge& e : unique_edges(triangles))
     if (keep(e)) edges.push_back(e);
-  const std::vector<double> r = travels(x0, x1);
+  const std::vector<double> r = travels(x0, x1, options.threads);
   // Moving vertices against static triangles.
   const Bvh moving_vertex_tree = build_bvh(swept_boxes(x0, x1, moving_vertices, 0.0), tree_options);
   auto out = collect_overlaps<CcdPair>(

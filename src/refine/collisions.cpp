@@ -81,17 +81,23 @@ std::vector<std::array<std::uint32_t, 3>> faces_near_exterior(const std::vector<
                                                               const std::vector<glm::vec4>& x1,
                                                               const std::vector<float>& clearance) {
   if (clearance.size() != x0.size()) return tris;
-  std::vector<std::array<std::uint32_t, 3>> near;
-  for (const auto& t : tris) {
-    double lowest = 1e300, longest = 0.0, travel = 0.0;
-    for (int k = 0; k < 3; ++k) {
-      glm::dvec3 a(glm::vec3(x0[t[k]])), c(glm::vec3(x0[t[(k + 1) % 3]]));
-      lowest = std::min(lowest, double(clearance[t[k]]) < 0.0 ? -1.0 : double(clearance[t[k]]));
-      longest = std::max(longest, glm::distance(a, c));
-      travel = std::max(travel, double(glm::distance(glm::vec3(x0[t[k]]), glm::vec3(x1[t[k]]))));
+  const std::size_t chunks = chunk_count(tris.size(), 4096);
+  std::vector<std::vector<std::array<std::uint32_t, 3>>> parts(chunks);
+  parallel_chunks(tris.size(), chunks, kInsideThreads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f) {
+      const auto& t = tris[f];
+      double lowest = 1e300, longest = 0.0, travel = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const glm::dvec3 a{glm::vec3(x0[t[k]])}, b{glm::vec3(x0[t[(k + 1) % 3]])};
+        lowest = std::min(lowest, double(clearance[t[k]]) < 0.0 ? -1.0 : double(clearance[t[k]]));
+        longest = std::max(longest, glm::distance(a, b));
+        travel = std::max(travel, double(glm::distance(glm::vec3(x0[t[k]]), glm::vec3(x1[t[k]]))));
+      }
+      if (lowest - longest - travel <= 1e-6 * (longest + 1e-30) + 1e-12) parts[c].push_back(t);
     }
-    if (lowest - longest - travel <= 1e-6 * (longest + 1e-30) + 1e-12) near.push_back(t);
-  }
+  });
+  std::vector<std::array<std::uint32_t, 3>> near;
+  for (const auto& part : parts) near.insert(near.end(), part.begin(), part.end());
   return near;
 }
 
@@ -190,9 +196,9 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
   // shrinks the motion): later rounds test those instead of searching S again.
   std::vector<std::uint8_t> reset_now(x1.size(), 0);
   std::vector<CcdPair> examined;
+  std::vector<glm::dvec3> p1 = to_double(x1);  // kept equal to x1: a held vertex goes back to p0
   for (int round = 0;; ++round) {
     opts.active_vertices = round > 0 ? &reset_now : nullptr;
-    std::vector<glm::dvec3> p1 = to_double(x1);
     opts.edges = &edges;
     opts.examined = round == 0 ? &examined : nullptr;
     opts.candidates = round > 0 ? &examined : nullptr;
@@ -219,7 +225,7 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
     std::fill(reset_now.begin(), reset_now.end(), 0);
     auto freeze = [&](std::uint32_t v) {
       auto hold = [&](std::uint32_t c) {
-        if (x1[c] != x0[c]) x1[c] = x0[c], reset_now[c] = 1, ++stopped;
+        if (x1[c] != x0[c]) x1[c] = x0[c], p1[c] = p0[c], reset_now[c] = 1, ++stopped;
       };
       if (v < x1.size()) return hold(v);
       const glm::uvec4 f = s.faces[rim.owner[v - x1.size()]];  // a rim face's virtual vertex: hold the face
