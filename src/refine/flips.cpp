@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
-#include <unordered_set>
 
 #include "geom/bvh.hpp"
 #include "geom/bvh_traverse.hpp"
 #include "geom/intersect.hpp"
+#include "util/key_set.hpp"
 #include "util/parallel.hpp"
 
 #include "refine/topology_edit.hpp"
@@ -177,15 +177,17 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
   std::vector<char> used(s.faces.size(), 0);
   // Edges this pass made (the adjacency is stale), as (smaller id << 32 | larger id): a hash set,
   // as only membership is asked (an ordered set of pairs took a tenth of the pass's serial time).
-  std::unordered_set<std::uint64_t> created;
-  created.reserve(2 * candidates.size());
+  KeySet created(candidates.size());  // keys are never 0: a diagonal joins two distinct vertices
   for (const FlipCandidate& c : candidates) {
-    const std::uint32_t f1 = s.ef_faces[s.ef_offsets[c.edge]], f2 = s.ef_faces[s.ef_offsets[c.edge] + 1];
     const auto [lo, hi] = std::minmax(c.opposite.x, c.opposite.y);
     const std::uint64_t diagonal = (std::uint64_t(lo) << 32) | hi;
-    if (used[f1] || used[f2] || created.count(diagonal)) continue;
+    if (used[c.faces.x] || used[c.faces.y] || created.contains(diagonal)) continue;
     const Made m{{c.faces.x, c.faces.y}, {s.faces[c.faces.x], s.faces[c.faces.y]}};
-    if (!flip_edge(s, c.edge)) continue;
+    // Neither face has changed since the candidate was found, nor has the (stale) edge table, so
+    // flip_edge would find this very quad again: the flip is made from it directly.
+    const glm::uvec2 e = s.edges[c.edge];
+    s.faces[c.faces.x] = glm::uvec4(c.opposite.x, e.x, c.opposite.y, 0u);
+    s.faces[c.faces.y] = glm::uvec4(c.opposite.y, e.y, c.opposite.x, 0u);
     created.insert(diagonal);
     used[c.faces.x] = used[c.faces.y] = 1;
     owner[c.faces.x] = owner[c.faces.y] = std::int32_t(made.size());
