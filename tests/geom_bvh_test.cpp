@@ -61,6 +61,19 @@ TEST(GeomBvh, BoxQueriesAndPairsMatchBruteForce) {
   std::vector<std::uint32_t> hits;
   fracref::query_box(ta, Aabb{dvec3(20), dvec3(21)}, hits);
   EXPECT_TRUE(hits.empty());
+  EXPECT_FALSE(fracref::any_box(ta, Aabb{dvec3(20), dvec3(21)}));
+  // any_box answers whether query_box finds anything: b's boxes as queries, some meeting a's.
+  std::size_t some = 0;
+  for (const Aabb& q : b) {
+    hits.clear();
+    fracref::query_box(ta, q, hits);
+    EXPECT_EQ(fracref::any_box(ta, q), !hits.empty());
+    some += !hits.empty();
+  }
+  EXPECT_GT(some, 10u);
+  EXPECT_LT(some, b.size());
+  EXPECT_TRUE(fracref::any_box(touching, Aabb{dvec3(2, 1, 1), dvec3(3)}));
+  EXPECT_FALSE(fracref::any_box(fracref::build_bvh(std::vector<Aabb>{}), Aabb{dvec3(0), dvec3(1)}));
   EXPECT_TRUE(fracref::build_bvh(std::vector<Aabb>{}).nodes.empty());
 }
 

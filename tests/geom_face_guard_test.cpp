@@ -46,6 +46,35 @@ TEST(FaceGuard, SnapshotFacesBlockUnlessReplaced) {
   EXPECT_TRUE(g.clear(t, {}));
 }
 
+// A hit found ahead on the snapshot decides as clear() does: no hit, a hit not gone, a hit gone
+// since (the face it met replaced by an accepted edit) while another snapshot face still blocks,
+// and one gone with nothing else in the way; replaced faces are never hits.
+TEST(FaceGuard, FirstSnapshotHitDecidesAsClear) {
+  Row r = row(6, 0.0);
+  // A second sheet face right over triangle 3, so a piercing face there meets two snapshot faces.
+  const auto top = std::uint32_t(r.positions.size());
+  r.positions.push_back({3.0, 0.0, 0.2});
+  r.positions.push_back({3.8, 0.0, 0.2});
+  r.positions.push_back({3.4, 0.8, 0.2});
+  r.faces.push_back({top, top + 1, top + 2});
+  FaceGuard g(r.positions, r.faces);
+  const auto at1 = piercing(g, 1, 0.0), at3 = piercing(g, 3, 0.0), clear_of_all = piercing(g, 1, 3.0);
+  EXPECT_EQ(g.first_snapshot_hit(clear_of_all, {}), FaceGuard::kNoHit);
+  EXPECT_TRUE(g.clear_given(clear_of_all, {}, FaceGuard::kNoHit));
+  EXPECT_EQ(g.first_snapshot_hit(at1, {}), 1u);
+  EXPECT_EQ(g.first_snapshot_hit(at1, {1}), FaceGuard::kNoHit);
+  const std::uint32_t hit3 = g.first_snapshot_hit(at3, {});
+  ASSERT_TRUE(hit3 == 3u || hit3 == 6u);
+  const std::uint32_t hit1 = g.first_snapshot_hit(at1, {});
+  EXPECT_FALSE(g.clear_given(at1, {}, hit1));
+  g.accept({}, {hit3});  // the face the hit found is gone; the other one over it is not
+  EXPECT_EQ(g.clear_given(at3, {}, hit3), g.clear(at3, {}));
+  EXPECT_FALSE(g.clear_given(at3, {}, hit3));
+  g.accept({}, {1});
+  EXPECT_TRUE(g.clear_given(at1, {}, hit1));
+  EXPECT_EQ(g.clear_given(at1, {}, hit1), g.clear(at1, {}));
+}
+
 // 1000 accepted faces (a row at z = 5, added one by one): the runs merge several times; a face
 // piercing any of them is refused, one piercing none is accepted.
 TEST(FaceGuard, AcceptedFacesBlockInEveryRunAndInTheTail) {

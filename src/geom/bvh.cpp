@@ -342,6 +342,25 @@ void query_box(const Bvh& bvh, const Aabb& box, std::vector<std::uint32_t>& out)
   }
 }
 
+bool any_box(const Bvh& bvh, const Aabb& box) {
+  if (bvh.nodes.empty()) return false;
+  std::uint32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const BvhNode& node = bvh.nodes[stack[--top]];
+    if (!node.box.overlaps(box)) continue;
+    if (node.count > 0) {
+      for (std::uint32_t k = node.first; k < node.first + node.count; ++k)
+        if (bvh.leaf_boxes[k].overlaps(box)) return true;
+      continue;
+    }
+    stack[top++] = node.first + 1;
+    stack[top++] = node.first;
+  }
+  return false;
+}
+
 ClosestPoint closest_point(const Bvh& bvh, const dvec3& query) {
   return closest_point(bvh, query, std::numeric_limits<double>::infinity());
 }

@@ -86,6 +86,9 @@ Bvh build_bvh(const std::vector<glm::dvec3>& positions, const std::vector<std::a
 /// Appends to `out` the ids of the items whose boxes overlap `box` (closed), in leaf order.
 void query_box(const Bvh& bvh, const Aabb& box, std::vector<std::uint32_t>& out);
 
+/// Whether some item's box overlaps `box` (closed): query_box's answer is not empty.
+bool any_box(const Bvh& bvh, const Aabb& box);
+
 /// The closest point of a triangle mesh to a query point.
 struct ClosestPoint {
   glm::dvec3 point{0.0};

@@ -47,12 +47,8 @@ FaceGuard::FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds>
   const std::size_t chunks = chunk_count(faces_.size(), 8192);
   std::vector<std::vector<std::uint32_t>> parts(chunks);
   parallel_chunks(faces_.size(), chunks, threads, [&](std::size_t c, std::size_t begin, std::size_t end) {
-    std::vector<std::uint32_t> hits;
-    for (std::size_t f = begin; f < end; ++f) {
-      hits.clear();
-      query_box(region_tree_, box_of(faces_[f]), hits);
-      if (!hits.empty()) parts[c].push_back(std::uint32_t(f));
-    }
+    for (std::size_t f = begin; f < end; ++f)
+      if (any_box(region_tree_, box_of(faces_[f]))) parts[c].push_back(std::uint32_t(f));
   });
   std::vector<Aabb> boxes;
   for (const auto& part : parts)
@@ -74,7 +70,24 @@ Aabb FaceGuard::box_of(const TriangleIds& t) const {
   return box;
 }
 
-bool FaceGuard::meets_snapshot(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const {
+std::vector<Aabb> FaceGuard::boxes_of(const std::vector<TriangleIds>& faces) const {
+  std::vector<Aabb> boxes;
+  for (const TriangleIds& t : faces) boxes.push_back(box_of(t));
+  return boxes;
+}
+
+// The near faces come from the box of all the new faces together, which on a long rim chord
+// holds a thousand faces of S: each new face's own box rules out most of them before the exact
+// test (faces whose boxes miss cannot meet, not even at a shared corner).
+bool FaceGuard::meets(const std::vector<TriangleIds>& faces, const std::vector<Aabb>& boxes, std::uint32_t g) const {
+  const Aabb other = box_of(faces_[g]);
+  for (std::size_t k = 0; k < faces.size(); ++k)
+    if (boxes[k].overlaps(other) && mesh_faces_intersect(x_, faces[k], faces_[g])) return true;
+  return false;
+}
+
+std::vector<std::uint32_t> FaceGuard::snapshot_near(const std::vector<TriangleIds>& faces,
+                                                    const std::vector<std::uint32_t>& replaced) const {
   Aabb box;
   for (const TriangleIds& t : faces) box.expand(box_of(t));
   std::vector<std::uint32_t> hits;
@@ -87,12 +100,32 @@ bool FaceGuard::meets_snapshot(const std::vector<TriangleIds>& faces, const std:
   query_box(bvh_, box, hits);
   if (restricted_)
     for (std::uint32_t& g : hits) g = indexed_[g];
-  for (std::uint32_t g : hits) {
-    if (gone_[g] || std::find(replaced.begin(), replaced.end(), g) != replaced.end()) continue;
-    if (std::any_of(faces.begin(), faces.end(), [&](const TriangleIds& t) { return mesh_faces_intersect(x_, t, faces_[g]); }))
-      return true;
+  std::erase_if(hits, [&](std::uint32_t g) { return std::find(replaced.begin(), replaced.end(), g) != replaced.end(); });
+  return hits;
+}
+
+bool FaceGuard::meets_snapshot(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const {
+  const std::vector<Aabb> boxes = boxes_of(faces);
+  for (std::uint32_t g : snapshot_near(faces, replaced)) {
+    if (gone_[g]) continue;
+    if (meets(faces, boxes, g)) return true;
   }
   return false;
+}
+
+std::uint32_t FaceGuard::first_snapshot_hit(const std::vector<TriangleIds>& faces,
+                                            const std::vector<std::uint32_t>& replaced) const {
+  const std::vector<Aabb> boxes = boxes_of(faces);
+  for (std::uint32_t g : snapshot_near(faces, replaced))
+    if (meets(faces, boxes, g)) return g;
+  return kNoHit;
+}
+
+bool FaceGuard::clear_given(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced,
+                            std::uint32_t hit) const {
+  if (hit != kNoHit && !gone_[hit]) return false;
+  if (hit != kNoHit && meets_snapshot(faces, replaced)) return false;
+  return clear_of_accepted(faces);
 }
 
 bool FaceGuard::clear(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const {
@@ -110,9 +143,9 @@ bool FaceGuard::clear_of_accepted(const std::vector<TriangleIds>& faces) const {
   }
   for (std::size_t k = runs_.empty() ? 0 : runs_.back().end; k < new_boxes_.size(); ++k)
     if (new_boxes_[k].overlaps(box)) hits.push_back(std::uint32_t(k));
+  const std::vector<Aabb> boxes = boxes_of(faces);
   for (std::uint32_t k : hits)
-    for (const TriangleIds& t : faces)
-      if (mesh_faces_intersect(x_, t, faces_[s_faces_ + k])) return false;
+    if (meets(faces, boxes, std::uint32_t(s_faces_ + k))) return false;
   return true;
 }
 

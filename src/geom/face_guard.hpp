@@ -41,6 +41,18 @@ class FaceGuard {
   }
   bool clear(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const;
 
+  /// The first face of the snapshot, other than `replaced` and gone or not, that `faces` meet
+  /// (in a fixed order), or kNoHit. Reads only what the constructor set up, so edits can be
+  /// tested side by side (on several threads) before clear_given() decides each in turn.
+  /// \throw RunError as clear().
+  static constexpr std::uint32_t kNoHit = 0xffffffffu;
+  std::uint32_t first_snapshot_hit(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const;
+
+  /// clear(faces, replaced) for `hit` = first_snapshot_hit(faces, replaced): no hit, or one
+  /// that is not gone, decide the snapshot's part at once; a hit gone since is tested again.
+  bool clear_given(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced,
+                   std::uint32_t hit) const;
+
   /// Records an accepted edit: `replaced` faces of the mesh are gone, `faces` exist.
   void accept(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced) {
     accept(std::vector<TriangleIds>(faces), std::vector<std::uint32_t>(replaced));
@@ -49,6 +61,12 @@ class FaceGuard {
 
  private:
   Aabb box_of(const TriangleIds& t) const;
+  std::vector<Aabb> boxes_of(const std::vector<TriangleIds>& faces) const;
+  // Whether one of `faces` (with their `boxes`) meets face g (exact).
+  bool meets(const std::vector<TriangleIds>& faces, const std::vector<Aabb>& boxes, std::uint32_t g) const;
+  // The snapshot faces other than `replaced` whose boxes overlap the box of `faces`.
+  std::vector<std::uint32_t> snapshot_near(const std::vector<TriangleIds>& faces,
+                                           const std::vector<std::uint32_t>& replaced) const;
   // Whether `faces` meet a face of the snapshot that is neither gone nor in `replaced`.
   bool meets_snapshot(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const;
   // Whether `faces` meet no face accepted so far.

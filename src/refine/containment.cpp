@@ -104,28 +104,62 @@ class SplitBatch {
   }
   bool busy_face(std::uint32_t f) const { return touched_[f] != 0; }
 
-  // Queues edge e split at t (its vertex at q) unless a face on e is taken or the new faces
-  // would meet another face of S. All faces on e are replaced at once: with q on e, each new
-  // face touches the faces on e not yet replaced.
-  bool add_edge(std::uint32_t e, float t, const glm::dvec3& q) {
-    if (busy_edge(e)) return false;
-    const glm::uvec2 ab = s_.edges[e];
-    const std::uint32_t m = guard().add_vertex(glm::dvec3(glm::vec3(q)));
+  // Edge e split at t, its vertex at q (already in the guard as vertex m): the new faces, and
+  // the faces on e they replace, all at once (with q on e, each new face touches the faces on e
+  // not yet replaced).
+  struct EdgeEdit {
+    std::uint32_t edge;
+    float t;
+    glm::dvec3 q;
     std::vector<TriangleIds> faces;
     std::vector<std::uint32_t> replaced;
+    std::uint32_t hit = FaceGuard::kNoHit;  // the guard's first_snapshot_hit, when found ahead
+  };
+  EdgeEdit edge_edit(std::uint32_t e, float t, const glm::dvec3& q) {
+    EdgeEdit edit{e, t, q, {}, {}, FaceGuard::kNoHit};
+    const glm::uvec2 ab = s_.edges[e];
+    const std::uint32_t m = guard().add_vertex(glm::dvec3(glm::vec3(q)));
     for (std::uint32_t k = s_.ef_offsets[e]; k < s_.ef_offsets[e + 1]; ++k) {
       const glm::uvec4 f = s_.faces[s_.ef_faces[k]];
       const std::uint32_t z = f.x + f.y + f.z - ab.x - ab.y;
-      faces.push_back({ab.x, m, z});
-      faces.push_back({m, ab.y, z});
-      replaced.push_back(s_.ef_faces[k]);
+      edit.faces.push_back({ab.x, m, z});
+      edit.faces.push_back({m, ab.y, z});
+      edit.replaced.push_back(s_.ef_faces[k]);
     }
-    if (!guard().clear(faces, replaced)) return false;
-    guard().accept(faces, replaced);
-    for (std::uint32_t f : replaced) touched_[f] = 1;
-    requests_.push_back({SplitRequest::kEdge, e, glm::vec3(1.0f - t, t, 0.0f)});
-    targets_.push_back(glm::vec3(q));
+    return edit;
+  }
+
+  // Queues edge e split at t (its vertex at q) unless a face on e is taken or the new faces
+  // would meet another face of S.
+  bool add_edge(std::uint32_t e, float t, const glm::dvec3& q) {
+    if (busy_edge(e)) return false;
+    const EdgeEdit edit = edge_edit(e, t, q);
+    if (!guard().clear(edit.faces, edit.replaced)) return false;
+    accept(edit);
     return true;
+  }
+
+  // Edits prepared by edge_edit, their first hits on S found side by side on `threads` threads:
+  // the exact tests against S are most of a chord pass.
+  void find_hits(std::vector<EdgeEdit*>& edits, int threads) {
+    const FaceGuard& g = guard();
+    parallel_chunks(edits.size(), chunk_count(edits.size(), 8), threads, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) edits[k]->hit = g.first_snapshot_hit(edits[k]->faces, edits[k]->replaced);
+    });
+  }
+
+  // add_edge for an edit whose first hit was found ahead: the same answer.
+  bool add_prepared(const EdgeEdit& edit) {
+    if (busy_edge(edit.edge) || !guard().clear_given(edit.faces, edit.replaced, edit.hit)) return false;
+    accept(edit);
+    return true;
+  }
+
+  void accept(const EdgeEdit& edit) {
+    guard().accept(edit.faces, edit.replaced);
+    for (std::uint32_t f : edit.replaced) touched_[f] = 1;
+    requests_.push_back({SplitRequest::kEdge, edit.edge, glm::vec3(1.0f - edit.t, edit.t, 0.0f)});
+    targets_.push_back(glm::vec3(edit.q));
   }
 
   // Queues face f split 1-to-3 at barycentric w (its vertex at q), unless taken or not clear.
@@ -338,11 +372,25 @@ std::size_t split_rim_chords_once(FractureSurface& s, RefinementTree& tree, cons
     chords.push_back(c);
     regions.push_back(region);
   }
+  // Each chord's splits to try, in order: moved inward (the new faces bend and can cut a
+  // neighbouring face at the rim), then at the midpoint itself. The first ones are tested against
+  // S side by side, then all are offered in chord order as a serial loop would (a midpoint split
+  // is tested when it is offered: most chords never need it).
+  std::vector<char> q_inside(chords.size(), 0);
+  parallel_chunks(chords.size(), chunk_count(chords.size(), 16), kThreads,
+                  [&](std::size_t, std::size_t begin, std::size_t end) {
+                    for (std::size_t k = begin; k < end; ++k) q_inside[k] = b.contains(chords[k].q);
+                  });
   SplitBatch batch(s, std::move(regions));
-  for (const Chord& c : chords) {
+  std::vector<std::optional<SplitBatch::EdgeEdit>> inward(chords.size());
+  std::vector<SplitBatch::EdgeEdit*> ahead;
+  for (std::size_t k = 0; k < chords.size(); ++k)
+    if (q_inside[k]) ahead.push_back(&inward[k].emplace(batch.edge_edit(chords[k].edge, 0.5f, chords[k].q)));
+  batch.find_hits(ahead, kThreads);
+  for (std::size_t k = 0; k < chords.size(); ++k) {
+    const Chord& c = chords[k];
     if (batch.busy_edge(c.edge)) continue;
-    // Moved inward, the new faces bend and can cut a neighbouring face at the rim.
-    if (b.contains(c.q) && batch.add_edge(c.edge, 0.5f, c.q)) continue;
+    if (inward[k] && batch.add_prepared(*inward[k])) continue;
     if (c.q != c.mid && c.mid_inside) batch.add_edge(c.edge, 0.5f, c.mid);
   }
   return batch.apply(s, tree, &origin);
