@@ -7,6 +7,13 @@
 #include "util/parallel.hpp"
 
 namespace fracref {
+namespace {
+
+// Threads projecting moved boundary vertices onto B (each vertex alone: the same result for any
+// count).
+constexpr int kProjectThreads = 2;
+
+}  // namespace
 
 void project_boundary_vertices(FractureSurface& s, const ExteriorSurface& b) {
   for (std::size_t i = 0; i < s.positions.size(); ++i)
@@ -16,9 +23,11 @@ void project_boundary_vertices(FractureSurface& s, const ExteriorSurface& b) {
 
 void apply_boundary_constraint(const FractureSurface& s, const ExteriorSurface& b, const std::vector<glm::vec4>& x0,
                                std::vector<glm::vec4>& x1) {
-  for (std::size_t i = 0; i < x1.size(); ++i)
-    if ((s.vertex_flags[i] & kVertexBoundary) && x1[i] != x0[i])
-      x1[i] = glm::vec4(glm::vec3(b.closest_point(glm::dvec3(glm::vec3(x1[i])))), 1.0f);
+  parallel_chunks(x1.size(), chunk_count(x1.size(), 4096), kProjectThreads, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      if ((s.vertex_flags[i] & kVertexBoundary) && x1[i] != x0[i])
+        x1[i] = glm::vec4(glm::vec3(b.closest_point(glm::dvec3(glm::vec3(x1[i])))), 1.0f);
+  });
 }
 
 namespace {

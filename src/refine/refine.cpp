@@ -315,13 +315,15 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
   const float scale = float(o_.scale);
   SampleSet set = draw_samples(s_, o_.seed, iteration, float(o_.delta) * scale);
   std::vector<char> on_boundary(set.points.size(), 0);
-  for (std::size_t k = 0; k < set.points.size(); ++k) {
-    const SplitRequest& r = set.requests[k];
-    if (r.kind == SplitRequest::kEdge && s_.edge_special[r.element] == kEdgeBoundary) {
-      set.points[k] = glm::vec4(glm::vec3(b_.closest_point(glm::dvec3(set.points[k]))), 1.0f);
-      on_boundary[k] = 1;
-    }
-  }
+  parallel_chunks(set.points.size(), chunk_count(set.points.size(), 4096), kThreads,
+                  [&](std::size_t, std::size_t begin, std::size_t end) {
+                    for (std::size_t k = begin; k < end; ++k) {
+                      const SplitRequest& r = set.requests[k];
+                      if (r.kind != SplitRequest::kEdge || s_.edge_special[r.element] != kEdgeBoundary) continue;
+                      set.points[k] = glm::vec4(glm::vec3(b_.closest_point(glm::dvec3(set.points[k]))), 1.0f);
+                      on_boundary[k] = 1;
+                    }
+                  });
   std::vector<glm::vec4> out(set.points.size());
   be_.sample_tests(s_.positions, samples_, SampleView{set.points, set.fan_offsets, set.fan_pairs}, out);
   // Verdicts side by side, then the splits in sample order: at most one per face, within budget.

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "util/parallel.hpp"
+
 namespace fracref {
 namespace {
 
@@ -79,22 +81,44 @@ float sample_uniform(std::uint64_t seed, std::uint32_t iteration, std::uint32_t 
   return float(sample_hash(seed, iteration, element, stream) >> 8) * (1.0f / 16777216.0f);
 }
 
+namespace {
+
+void add_sample_of_face(const FractureSurface& s, std::uint32_t f, std::uint64_t seed, std::uint32_t it,
+                        float min_distance, SampleSet& out) {
+  std::uint32_t boundary[3], nb = 0;
+  for (int k = 0; k < 3; ++k)
+    if (s.edge_special[s.face_edges[3 * f + k]] == kEdgeBoundary) boundary[nb++] = s.face_edges[3 * f + k];
+  if (nb == 0) return add_face_sample(s, f, seed, it, min_distance, out);
+  const std::uint32_t pick = boundary[sample_hash(seed, it, f, 2) % nb];
+  add_edge_sample(s, pick, sample_uniform(seed, it, f, 0), min_distance, out);
+}
+
+// Appends `part` to `out`, its fans after out's.
+void append(SampleSet& out, const SampleSet& part) {
+  const std::uint32_t base = std::uint32_t(out.fan_pairs.size());
+  out.points.insert(out.points.end(), part.points.begin(), part.points.end());
+  out.requests.insert(out.requests.end(), part.requests.begin(), part.requests.end());
+  out.fan_pairs.insert(out.fan_pairs.end(), part.fan_pairs.begin(), part.fan_pairs.end());
+  for (std::size_t k = 1; k < part.fan_offsets.size(); ++k) out.fan_offsets.push_back(base + part.fan_offsets[k]);
+}
+
+// Threads drawing the face samples (each face's sample depends only on the hash: the set is the
+// same for any count).
+constexpr int kThreads = 2;
+
+}  // namespace
+
 SampleSet draw_samples(const FractureSurface& s, std::uint64_t seed, std::uint32_t it, float min_distance) {
   SampleSet out;
   const std::uint32_t nf = std::uint32_t(s.faces.size());
   for (std::uint32_t e = 0; e < s.edges.size(); ++e)
     if (s.edge_special[e] == kEdgeNonManifold) add_edge_sample(s, e, sample_uniform(seed, it, nf + e, 0), min_distance, out);
-  for (std::uint32_t f = 0; f < nf; ++f) {
-    std::uint32_t boundary[3], nb = 0;
-    for (int k = 0; k < 3; ++k)
-      if (s.edge_special[s.face_edges[3 * f + k]] == kEdgeBoundary) boundary[nb++] = s.face_edges[3 * f + k];
-    if (nb == 0) {
-      add_face_sample(s, f, seed, it, min_distance, out);
-      continue;
-    }
-    std::uint32_t pick = boundary[sample_hash(seed, it, f, 2) % nb];
-    add_edge_sample(s, pick, sample_uniform(seed, it, f, 0), min_distance, out);
-  }
+  const std::size_t chunks = chunk_count(nf, 8192);
+  std::vector<SampleSet> parts(chunks);
+  parallel_chunks(nf, chunks, kThreads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    for (auto f = std::uint32_t(begin); f < end; ++f) add_sample_of_face(s, f, seed, it, min_distance, parts[c]);
+  });
+  for (const SampleSet& part : parts) append(out, part);
   return out;
 }
 
