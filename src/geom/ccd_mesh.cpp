@@ -483,12 +483,30 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
   std::vector<std::uint32_t> moving_triangles;
   for (std::uint32_t t = 0; t < triangles.size(); ++t)
     if (keep(triangles[t])) moving_triangles.push_back(t);
+  // An edge with a vertex that takes part lies only on triangles with such a vertex: the edges
+  // are found among those (in later rounds a few), in the order of the whole mesh's edges.
+  Tris touched;
+  for (const auto& t : triangles)
+    if (take[t[0]] == 1 || take[t[1]] == 1 || take[t[2]] == 1) touched.push_back(t);
   std::vector<Edge> edges;
-  for (const Edge& e : unique_edges(triangles))
+  for (const Edge& e : unique_edges(touched))
     if (keep(e)) edges.push_back(e);
   const std::vector<double> r = travels(x0, x1, options.threads);
+  // The three trees over the moving elements side by side, each on one thread.
+  Bvh moving_vertex_tree, moving_tri_tree, moving_edge_tree;
+  BvhOptions one = tree_options;
+  one.threads = 1;
+  parallel_chunks(3, 3, options.threads, [&](std::size_t k, std::size_t, std::size_t) {
+    if (k == 0) moving_vertex_tree = build_bvh(swept_boxes(x0, x1, moving_vertices, 0.0), one);
+    if (k == 1) {
+      std::vector<Aabb> tri_boxes(moving_triangles.size());
+      for (std::size_t i = 0; i < moving_triangles.size(); ++i)
+        tri_boxes[i] = swept_box(x0, x1, triangles[moving_triangles[i]], 0.0);
+      moving_tri_tree = build_bvh(tri_boxes, one);
+    }
+    if (k == 2) moving_edge_tree = build_bvh(swept_boxes(x0, x1, edges, 0.0), one);
+  });
   // Moving vertices against static triangles.
-  const Bvh moving_vertex_tree = build_bvh(swept_boxes(x0, x1, moving_vertices, 0.0), tree_options);
   auto out = collect_overlaps<CcdPair>(
       moving_vertex_tree, m.triangle_tree, false, options.threads,
       [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
@@ -499,10 +517,6 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
           found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
       });
   // Static vertices against moving triangles.
-  std::vector<Aabb> tri_boxes(moving_triangles.size());
-  for (std::size_t k = 0; k < moving_triangles.size(); ++k)
-    tri_boxes[k] = swept_box(x0, x1, triangles[moving_triangles[k]], 0.0);
-  const Bvh moving_tri_tree = build_bvh(tri_boxes, tree_options);
   auto tv = collect_overlaps<CcdPair>(
       m.vertex_tree, moving_tri_tree, false, options.threads,
       [&](std::uint32_t k, std::uint32_t i, std::vector<CcdPair>& found) {
@@ -514,7 +528,6 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
           found.push_back(vertex_pair(CcdKind::triangle_vertex, v, tri, t));
       });
   // Moving edges against static edges.
-  const Bvh moving_edge_tree = build_bvh(swept_boxes(x0, x1, edges, 0.0), tree_options);
   auto ee = collect_overlaps<CcdPair>(
       moving_edge_tree, m.edge_tree, false, options.threads,
       [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
