@@ -1,17 +1,21 @@
 // Per-frame vertex positions, the parent map and backward remeshing.
 #include <cctype>
 #include <cmath>
+#include <exception>
 #include <optional>
 #include <string>
 
 #include "coarse/animation.hpp"
 #include "coarse/coarse_internal.hpp"
 #include "io/mesh_io.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 namespace {
 using namespace coarse_detail;
 namespace fs = std::filesystem;
+
+constexpr int kReadThreads = 2;  // frame files read side by side (the frames do not depend on it)
 
 struct FrameField {
   std::size_t begin = 0, end = 0;
@@ -164,16 +168,29 @@ CoarseAnimation load_frames(const fs::path& pattern, std::int64_t first, std::in
   const bool remesh = !parent_map_path.empty();
   CoarseAnimation anim;
   anim.fps = fps;
+  // The files are read and parsed side by side, then checked in order: a frame's read error is
+  // reported at its turn, so the first error is the one a frame-by-frame read would meet.
   std::vector<fs::path> files;
-  for (std::int64_t i = 0; i < count; ++i) {
-    files.push_back(frame_file(pattern, first + i));
-    std::size_t last_line = 0;
-    anim.frames.push_back(read_frame(files.back(), n, last_line));
+  for (std::int64_t i = 0; i < count; ++i) files.push_back(frame_file(pattern, first + i));
+  std::vector<std::vector<glm::dvec3>> read(files.size());
+  std::vector<std::size_t> last_lines(files.size(), 0);
+  std::vector<std::exception_ptr> errors(files.size());
+  parallel_chunks(files.size(), files.size(), kReadThreads, [&](std::size_t i, std::size_t, std::size_t) {
+    try {
+      read[i] = read_frame(files[i], n, last_lines[i]);
+    } catch (...) {
+      errors[i] = std::current_exception();
+    }
+  });
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    if (errors[i]) std::rethrow_exception(errors[i]);
+    const std::size_t last_line = last_lines[i];
+    anim.frames.push_back(std::move(read[i]));
     const std::size_t got = anim.frames.back().size();
-    std::string at = files.back().string();
+    std::string at = files[i].string();
     if (last_line) at.append(1, ':').append(std::to_string(last_line));
     at += ": ";
-    const bool last = i + 1 == count;
+    const bool last = i + 1 == files.size();
     if (got != n && (!remesh || last))
       throw InputError(at + "the frame has " + std::to_string(got) + " vertices, the model has " + std::to_string(n) +
                        (remesh ? " (the last frame must have the model's topology)" : " (no parent map is given)"));

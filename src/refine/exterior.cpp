@@ -1,5 +1,7 @@
 #include "refine/exterior.hpp"
 
+#include <future>
+
 #include "geom/intersect.hpp"
 #include "io/mesh_stats.hpp"
 #include "io/openmesh_bridge.hpp"
@@ -27,6 +29,9 @@ glm::dvec3 ExteriorSurface::normal(std::uint32_t t) const {
 }
 
 ExteriorSurface make_exterior(const MeshSoup& mesh, const std::string& what) {
+  // The collision trees are built beside the checks below (an error of the checks still comes
+  // first: the trees' own errors are raised only once the checks have passed).
+  auto ccd = std::async(std::launch::async, [&mesh] { return prepare_static_ccd_mesh(mesh.positions, mesh.triangles, 0.0, 1); });
   MeshStats st = mesh_stats(mesh);
   if (!st.closed)
     throw InputError(what + ": the exterior surface is not closed (" + std::to_string(st.boundary_edges) +
@@ -45,7 +50,7 @@ ExteriorSurface make_exterior(const MeshSoup& mesh, const std::string& what) {
                      "); reverse its faces");
   ExteriorSurface b;
   b.bvh = build_bvh(mesh.positions, mesh.triangles);
-  b.ccd = prepare_static_ccd_mesh(mesh.positions, mesh.triangles);
+  b.ccd = ccd.get();
   b.bbox_min = st.bbox_min;
   b.bbox_max = st.bbox_max;
   return b;
