@@ -324,25 +324,12 @@ Bvh build_bvh(const std::vector<dvec3>& positions, const std::vector<std::array<
   return bvh;
 }
 
-void query_box(const Bvh& bvh, const Aabb& box, std::vector<std::uint32_t>& out) {
-  if (bvh.nodes.empty()) return;
-  std::uint32_t stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const BvhNode& node = bvh.nodes[stack[--top]];
-    if (!node.box.overlaps(box)) continue;
-    if (node.count > 0) {
-      for (std::uint32_t k = node.first; k < node.first + node.count; ++k)
-        if (bvh.leaf_boxes[k].overlaps(box)) out.push_back(bvh.items[k]);
-      continue;
-    }
-    stack[top++] = node.first + 1;
-    stack[top++] = node.first;
-  }
-}
+namespace {
 
-bool any_box(const Bvh& bvh, const Aabb& box) {
+// Calls hit(item) for the items whose boxes overlap `box`, in leaf order, until it returns true;
+// returns whether one did.
+template <class Hit>
+bool each_box(const Bvh& bvh, const Aabb& box, const Hit& hit) {
   if (bvh.nodes.empty()) return false;
   std::uint32_t stack[128];
   int top = 0;
@@ -352,13 +339,26 @@ bool any_box(const Bvh& bvh, const Aabb& box) {
     if (!node.box.overlaps(box)) continue;
     if (node.count > 0) {
       for (std::uint32_t k = node.first; k < node.first + node.count; ++k)
-        if (bvh.leaf_boxes[k].overlaps(box)) return true;
+        if (bvh.leaf_boxes[k].overlaps(box) && hit(bvh.items[k])) return true;
       continue;
     }
     stack[top++] = node.first + 1;
     stack[top++] = node.first;
   }
   return false;
+}
+
+}  // namespace
+
+void query_box(const Bvh& bvh, const Aabb& box, std::vector<std::uint32_t>& out) {
+  each_box(bvh, box, [&](std::uint32_t item) {
+    out.push_back(item);
+    return false;
+  });
+}
+
+bool any_box(const Bvh& bvh, const Aabb& box) {
+  return each_box(bvh, box, [](std::uint32_t) { return true; });
 }
 
 ClosestPoint closest_point(const Bvh& bvh, const dvec3& query) {
