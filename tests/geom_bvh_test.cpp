@@ -152,7 +152,9 @@ TEST(GeomBvh, ThreadedBuildKeepsTiesInIdOrder) {
   // Items of one lattice cell (one code) come out consecutive and in ascending id order.
   for (std::size_t k = 1; k < threaded.items.size(); ++k) {
     const Aabb &a = boxes[threaded.items[k - 1]], &b = boxes[threaded.items[k]];
-    if (a.lo == b.lo) EXPECT_LT(threaded.items[k - 1], threaded.items[k]) << "at " << k;
+    if (a.lo == b.lo) {
+      EXPECT_LT(threaded.items[k - 1], threaded.items[k]) << "at " << k;
+    }
   }
 }
 
