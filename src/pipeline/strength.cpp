@@ -13,19 +13,24 @@ Grid3 distance_grid(const Grid3& grid, const std::vector<glm::dvec3>& positions,
   Bvh bvh = build_bvh(positions, triangles);
   Grid3 out = grid;
   out.values.assign(grid.size(), 0.0f);
-  // Distance is 1-Lipschitz: a node is at most one cell farther than the node before it in its
-  // row, a bound that lets the search skip most of the tree (closest_point's answer is the same).
+  // The triangle nearest to the node before it in its row is usually nearest to this node too,
+  // or nearly: its distance (a little over, so that it is found again) bounds the search, which
+  // then skips most of the tree (closest_point's answer is the same).
   auto work = [&](unsigned z0, unsigned z1) {
     for (unsigned z = z0; z < z1; ++z)
       for (unsigned y = 0; y < grid.dims.y; ++y) {
-        double before = std::numeric_limits<double>::infinity();
+        std::uint32_t before = 0;
         for (unsigned x = 0; x < grid.dims.x; ++x) {
           const glm::dvec3 p = grid.node_position(x, y, z);
-          const double reach = (before + grid.cell) * (1.0 + 1e-6);
-          ClosestPoint c = closest_point(bvh, p, reach * reach);
+          ClosestPoint c;
+          if (x > 0) {
+            const auto& t = triangles[before];
+            const double d2 = closest_point_on_triangle(p, positions[t[0]], positions[t[1]], positions[t[2]]).squared_distance;
+            c = closest_point(bvh, p, d2 * (1.0 + 1e-9) + 1e-300);
+          }
           if (!(c.squared_distance < std::numeric_limits<double>::infinity())) c = closest_point(bvh, p);
-          before = std::sqrt(c.squared_distance);
-          out.values[grid.index(x, y, z)] = float(before);
+          before = c.triangle;
+          out.values[grid.index(x, y, z)] = float(std::sqrt(c.squared_distance));
         }
       }
   };
