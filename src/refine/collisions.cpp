@@ -9,9 +9,10 @@
 namespace fracref {
 namespace {
 
-// Threads projecting moved boundary vertices onto B (each vertex alone: the same result for any
-// count).
-constexpr int kProjectThreads = 2;
+// Threads for the per-vertex and per-face work below (projecting onto B, the inside test, faces
+// near B, the rim faces' crossing test): each element is decided alone, so the result is the same
+// for any count.
+constexpr int kThreads = 2;
 
 }  // namespace
 
@@ -23,7 +24,7 @@ void project_boundary_vertices(FractureSurface& s, const ExteriorSurface& b) {
 
 void apply_boundary_constraint(const FractureSurface& s, const ExteriorSurface& b, const std::vector<glm::vec4>& x0,
                                std::vector<glm::vec4>& x1) {
-  parallel_chunks(x1.size(), chunk_count(x1.size(), 4096), kProjectThreads, [&](std::size_t, std::size_t begin, std::size_t end) {
+  parallel_chunks(x1.size(), chunk_count(x1.size(), 4096), kThreads, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
       if ((s.vertex_flags[i] & kVertexBoundary) && x1[i] != x0[i])
         x1[i] = glm::vec4(glm::vec3(b.closest_point(glm::dvec3(glm::vec3(x1[i])))), 1.0f);
@@ -40,10 +41,7 @@ constexpr int kCcdBoxBudget = 4096;
 
 // An interior vertex that ends closer to B than it travelled may have crossed it: only those
 // need the (costlier) inside test. A cached lower bound of the distance to B, lowered by the
-// travel of every step, spares most of the closest-point queries too. Each vertex is decided on
-// its own, so the vertices are shared among kInsideThreads threads (same result for any count;
-// the crossing test of the rim faces below shares them too).
-constexpr int kInsideThreads = 2;
+// travel of every step, spares most of the closest-point queries too.
 
 bool keep_vertex_inside(const ExteriorSurface& b, const glm::vec4& x0, glm::vec4& x1, float& c) {
   const glm::dvec3 p0 = glm::dvec3(glm::vec3(x0)), p1 = glm::dvec3(glm::vec3(x1));
@@ -69,7 +67,7 @@ std::size_t keep_inside(const FractureSurface& s, const ExteriorSurface& b, cons
   const std::size_t chunks = chunk_count(x1.size(), 2048);
   std::vector<std::size_t> reset(chunks, 0);
   parallel_chunks(
-      x1.size(), chunks, kInsideThreads, [&](std::size_t k, std::size_t begin, std::size_t end) {
+      x1.size(), chunks, kThreads, [&](std::size_t k, std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i)
           if (!(s.vertex_flags[i] & kVertexBoundary) && keep_vertex_inside(b, x0[i], x1[i], c[i])) ++reset[k];
       });
@@ -92,7 +90,7 @@ std::vector<std::array<std::uint32_t, 3>> faces_near_exterior(const std::vector<
   if (clearance.size() != x0.size()) return tris;
   const std::size_t chunks = chunk_count(tris.size(), 4096);
   std::vector<std::vector<std::array<std::uint32_t, 3>>> parts(chunks);
-  parallel_chunks(tris.size(), chunks, kInsideThreads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+  parallel_chunks(tris.size(), chunks, kThreads, [&](std::size_t c, std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f) {
       const auto& t = tris[f];
       double lowest = 1e300, longest = 0.0, travel = 0.0;
@@ -151,7 +149,7 @@ RimFaces rim_faces(const FractureSurface& s, const std::vector<glm::vec4>& x0, c
 // edge–edge contact, so CCD over a zero step would not see it).
 void drop_crossing_rim_faces(RimFaces& rim, const std::vector<glm::dvec3>& p0_rim, const ExteriorSurface& b) {
   std::vector<char> keep(rim.triangles.size(), 0);
-  parallel_chunks(keep.size(), chunk_count(keep.size(), 512), kInsideThreads,
+  parallel_chunks(keep.size(), chunk_count(keep.size(), 512), kThreads,
                   [&](std::size_t, std::size_t begin, std::size_t end) {
                     for (std::size_t k = begin; k < end; ++k) {
                       const auto& tri = rim.triangles[k];

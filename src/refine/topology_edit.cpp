@@ -84,17 +84,22 @@ std::size_t apply_splits(FractureSurface& s, RefinementTree& tree, const std::ve
   std::vector<std::uint32_t> own_origin;
   std::vector<std::uint32_t>& origin = deferred_origin ? *deferred_origin : own_origin;
   // Room for the new vertices and faces at once (a face split adds two faces, an edge split one
-  // per face on the edge): growing them split by split copied the arrays again and again.
+  // per face on the edge): a large batch grown split by split copied the arrays several times.
+  // The room grows at least geometrically, so that many small batches (the rim chords' and
+  // tucking passes) do not each copy the arrays for a few splits.
   std::size_t new_faces = 0;
   for (const SplitRequest& r : requests)
     new_faces += r.kind == SplitRequest::kFace ? 2 : s.ef_offsets[r.element + 1] - s.ef_offsets[r.element];
-  s.positions.reserve(before + requests.size());
-  s.vertex_flags.reserve(before + requests.size());
-  tree.parents.reserve(tree.parents.size() + requests.size());
-  tree.weights.reserve(tree.weights.size() + requests.size());
-  s.faces.reserve(first_face + new_faces);
-  s.face_pieces.reserve(first_face + new_faces);
-  origin.reserve(origin.size() + new_faces);
+  auto room = [](auto& v, std::size_t more) {
+    if (v.size() + more > v.capacity()) v.reserve(std::max(v.size() + more, 2 * v.capacity()));
+  };
+  room(s.positions, requests.size());
+  room(s.vertex_flags, requests.size());
+  room(tree.parents, requests.size());
+  room(tree.weights, requests.size());
+  room(s.faces, new_faces);
+  room(s.face_pieces, new_faces);
+  room(origin, new_faces);
   for (std::size_t k = 0; k < requests.size(); ++k) {
     const SplitRequest& r = requests[k];
     if (r.kind == SplitRequest::kFace) split_face(s, tree, r, origin);
