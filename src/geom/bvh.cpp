@@ -10,6 +10,7 @@
 
 #include "geom/bvh_traverse.hpp"
 #include "geom/morton.hpp"
+#include "util/counting_sort.hpp"
 #include "util/error.hpp"
 #include "util/parallel.hpp"
 
@@ -39,33 +40,19 @@ constexpr int kGridBits = 10;
 // Below this many items the builds run on one thread (a thread costs more than it saves).
 constexpr std::size_t kParallelItems = 8192;
 
-// Stable LSD radix sort. Each pass's counting and scattering are split into `parts` contiguous
-// ranges of the items, each scattering after the ranges before it within every digit: the same
-// order as one part.
+// Stable LSD radix sort, one counting sort per digit (its counting and placing split in two
+// parts for a large tree: the same order as one part).
 void radix_sort(std::vector<Keyed>& items, int threads) {
   constexpr int kBits = kGridBits, kPasses = 3;
   constexpr std::uint32_t kDigits = 1u << kBits, kMask = kDigits - 1;
   const std::size_t parts = threads >= 2 && items.size() >= kParallelItems ? 2 : 1;
   std::vector<Keyed> scratch(items.size());
-  std::vector<std::vector<std::uint32_t>> count(parts, std::vector<std::uint32_t>(kDigits));
   for (int pass = 0; pass < kPasses; ++pass) {
     const int shift = pass * kBits;
-    parallel_chunks(items.size(), parts, threads, [&](std::size_t p, std::size_t begin, std::size_t end) {
-      std::fill(count[p].begin(), count[p].end(), 0u);
-      for (std::size_t i = begin; i < end; ++i) ++count[p][(items[i].code >> shift) & kMask];
-    });
-    std::uint32_t at = 0;
-    bool one_digit = false;
-    for (std::uint32_t d = 0; d < kDigits; ++d) {
-      std::uint32_t total = 0;
-      for (auto& c : count) total += c[d];
-      one_digit = one_digit || total == items.size();
-      for (auto& c : count) at += std::exchange(c[d], at);
-    }
-    if (one_digit) continue;  // one digit: nothing moves
-    parallel_chunks(items.size(), parts, threads, [&](std::size_t p, std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i) scratch[count[p][(items[i].code >> shift) & kMask]++] = items[i];
-    });
+    counting_sort(
+        items.size(), kDigits, parts,
+        [&](std::size_t i, auto&& emit) { emit((items[i].code >> shift) & kMask, 0u); },
+        [&](std::size_t i, std::uint32_t, std::uint32_t pos) { scratch[pos] = items[i]; });
     items.swap(scratch);
   }
 }

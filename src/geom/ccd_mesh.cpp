@@ -3,7 +3,6 @@
 #include <cmath>
 #include <limits>
 #include <string>
-#include <thread>
 
 #include "geom/bvh.hpp"
 #include "geom/ccd.hpp"
@@ -194,14 +193,7 @@ struct StepTrees {
   // leave its serial parts, the sort's counts, the allocations, on one core).
   template <class A, class B>
   void side_by_side(const A& a, const B& b) const {
-    if (threads < 2) {
-      a(threads);
-      b(threads);
-      return;
-    }
-    std::thread other([&] { a(1); });
-    b(1);
-    other.join();
+    parallel_chunks(2, 2, threads, [&](std::size_t k, std::size_t, std::size_t) { k == 0 ? a(1) : b(1); });
   }
 };
 

@@ -2,9 +2,9 @@
 #include <algorithm>
 #include <numeric>
 #include <span>
-#include <utility>
 
 #include "surface/surface_internal.hpp"
+#include "util/counting_sort.hpp"
 #include "util/parallel.hpp"
 
 namespace fracref::surface_detail {
@@ -15,30 +15,7 @@ namespace {
 constexpr std::size_t kParallelFaces = 8192;
 constexpr int kThreads = 2;
 
-// A counting sort of items keyed per face, the faces split into parts that count and scatter
-// side by side: part p's items of key k go after those of parts before it, so every key's items
-// come out in face order whatever the number of parts. `keys(f, emit)` calls emit(key) for each
-// of face f's items, in order; `store(f, i, pos)` places face f's item i at `pos`. Returns the
-// offsets (size nkeys + 1).
-template <class Keys, class Store>
-std::vector<std::uint32_t> counting_sort(std::size_t nf, std::size_t nkeys, const Keys& keys, const Store& store) {
-  const int parts = nf < kParallelFaces ? 1 : kThreads;
-  std::vector<std::vector<std::uint32_t>> cursor(std::size_t(parts), std::vector<std::uint32_t>(nkeys, 0));
-  parallel_chunks(nf, std::size_t(parts), parts, [&](std::size_t p, std::size_t begin, std::size_t end) {
-    for (auto f = std::uint32_t(begin); f < end; ++f) keys(f, [&](std::uint32_t k, std::uint32_t) { ++cursor[p][k]; });
-  });
-  std::vector<std::uint32_t> offsets(nkeys + 1, 0);
-  for (std::size_t k = 0; k < nkeys; ++k) {
-    std::uint32_t at = offsets[k];
-    for (auto& c : cursor) at += std::exchange(c[k], at);
-    offsets[k + 1] = at;
-  }
-  parallel_chunks(nf, std::size_t(parts), parts, [&](std::size_t p, std::size_t begin, std::size_t end) {
-    for (auto f = std::uint32_t(begin); f < end; ++f)
-      keys(f, [&](std::uint32_t k, std::uint32_t i) { store(f, i, cursor[p][k]++); });
-  });
-  return offsets;
-}
+std::size_t parts_for(std::size_t faces) { return faces < kParallelFaces ? 1 : kThreads; }
 
 }  // namespace
 
@@ -46,11 +23,11 @@ void build_vertex_faces(FractureSurface& s) {
   s.vf_faces.resize(3 * s.faces.size());
   // Faces are placed in ascending order, so every vertex's list comes out ascending.
   s.vf_offsets = counting_sort(
-      s.faces.size(), s.positions.size(),
-      [&](std::uint32_t f, auto&& emit) {
+      s.faces.size(), s.positions.size(), parts_for(s.faces.size()),
+      [&](std::size_t f, auto&& emit) {
         for (std::uint32_t i = 0; i < 3; ++i) emit(s.faces[f][i], i);
       },
-      [&](std::uint32_t f, std::uint32_t, std::uint32_t pos) { s.vf_faces[pos] = f; });
+      [&](std::size_t f, std::uint32_t, std::uint32_t pos) { s.vf_faces[pos] = std::uint32_t(f); });
 }
 
 void build_edges(FractureSurface& s) {
@@ -61,13 +38,13 @@ void build_edges(FractureSurface& s) {
   // range's edges, a second writes them where the ranges before them end.
   std::vector<std::uint64_t> slots(3 * nf);
   const std::vector<std::uint32_t> bucket = counting_sort(
-      nf, nv,
-      [&](std::uint32_t f, auto&& emit) {
+      nf, nv, parts_for(nf),
+      [&](std::size_t f, auto&& emit) {
         for (std::uint32_t i = 0; i < 3; ++i) emit(std::min(s.faces[f][i], s.faces[f][(i + 1) % 3]), i);
       },
-      [&](std::uint32_t f, std::uint32_t i, std::uint32_t pos) {
+      [&](std::size_t f, std::uint32_t i, std::uint32_t pos) {
         const std::uint32_t a = s.faces[f][i], b = s.faces[f][(i + 1) % 3];
-        slots[pos] = (std::uint64_t(std::max(a, b)) << 32) | (3 * f + i);
+        slots[pos] = (std::uint64_t(std::max(a, b)) << 32) | (3 * std::uint32_t(f) + i);
       });
   const std::size_t chunks = nf < kParallelFaces ? 1 : chunk_count(nv, 2048);
   std::vector<std::uint32_t> first_edge(chunks + 1, 0);
