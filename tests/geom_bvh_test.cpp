@@ -77,40 +77,6 @@ TEST(GeomBvh, BoxQueriesAndPairsMatchBruteForce) {
   EXPECT_TRUE(fracref::build_bvh(std::vector<Aabb>{}).nodes.empty());
 }
 
-// collect_overlaps with a `keep` over marked_nodes finds exactly the overlapping pairs with a
-// marked item (in a clustered marking some subtrees hold no marked item and are skipped whole).
-TEST(GeomBvh, PairsTouchingMarkedItemsMatchBruteForce) {
-  std::mt19937_64 rng(11);
-  const auto boxes = random_boxes(rng, 3000, 0.6);
-  std::vector<char> marked(boxes.size(), 0);
-  for (std::size_t i = 0; i < boxes.size(); ++i) marked[i] = boxes[i].lo.x < 3.0 && (rng() % 3 == 0);
-  const Bvh t = fracref::build_bvh(boxes, {4});
-  const std::vector<char> nodes = fracref::marked_nodes(t, marked);
-  EXPECT_EQ(nodes[0], 1);
-  EXPECT_LT(std::count(nodes.begin(), nodes.end(), 1), std::ptrdiff_t(nodes.size() / 2));
-  using Pair = std::pair<std::uint32_t, std::uint32_t>;
-  std::vector<Pair> expected;
-  for (std::uint32_t i = 0; i < boxes.size(); ++i)
-    for (std::uint32_t j = i + 1; j < boxes.size(); ++j)
-      if ((marked[i] || marked[j]) && boxes[i].overlaps(boxes[j])) expected.emplace_back(i, j);
-  ASSERT_GT(expected.size(), 100u);
-  for (int threads : {1, 2}) {
-    std::size_t visited = 0;
-    auto found = fracref::collect_overlaps<Pair>(
-        t, t, true, threads,
-        [&](std::uint32_t i, std::uint32_t j, std::vector<Pair>& out) {
-          if (threads == 1) ++visited;  // one thread: no race on the count
-          if (marked[i] || marked[j]) out.emplace_back(i, j);
-        },
-        [&](fracref::geom_detail::NodePair p) { return nodes[p.a] || nodes[p.b]; });
-    std::sort(found.begin(), found.end());
-    EXPECT_EQ(found, expected);
-    if (threads == 1) {
-      EXPECT_LT(visited, fracref::self_overlapping_pairs(t, 1).size());  // unmarked subtrees skipped
-    }
-  }
-}
-
 TEST(GeomBvh, ThreadedBuildGivesTheSameAnswers) {
   std::mt19937_64 rng(6);
   const auto boxes = random_boxes(rng, 30000, 0.15);

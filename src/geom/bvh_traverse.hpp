@@ -111,24 +111,18 @@ void visit_leaves(const Bvh& a, const Bvh& b, bool self, NodePair p, Visit& visi
   }
 }
 
-struct AnyNodePair {
-  bool operator()(NodePair) const { return true; }
-};
-
-// Whether the traversal must look into node pair p: `keep` allows it and the boxes overlap.
-template <class Keep>
-bool worth_visiting(const Bvh& a, const Bvh& b, bool self, NodePair p, const Keep& keep) {
-  if (!keep(p)) return false;
+// Whether the traversal must look into node pair p: the boxes overlap (a node with itself does).
+inline bool worth_visiting(const Bvh& a, const Bvh& b, bool self, NodePair p) {
   return (self && p.a == p.b) || a.nodes[p.a].box.overlaps(b.nodes[p.b].box);
 }
 
-template <class Visit, class Keep = AnyNodePair>
-void traverse_from(const Bvh& a, const Bvh& b, bool self, NodePair start, Visit& visit, const Keep& keep = {}) {
+template <class Visit>
+void traverse_from(const Bvh& a, const Bvh& b, bool self, NodePair start, Visit& visit) {
   std::vector<NodePair> stack{start};
   while (!stack.empty()) {
     const NodePair p = stack.back();
     stack.pop_back();
-    if (!worth_visiting(a, b, self, p, keep)) continue;
+    if (!worth_visiting(a, b, self, p)) continue;
     if (!expand(a, b, self, p, stack)) visit_leaves(a, b, self, p, visit);
   }
 }
@@ -138,12 +132,9 @@ void traverse_from(const Bvh& a, const Bvh& b, bool self, NodePair start, Visit&
 /// Calls test(i, j, out) for every pair of items with overlapping (closed) boxes: i in `a` and
 /// j in `b`, or, when `self` (b must then be a), every unordered pair once as i < j. The work
 /// is split into tasks run on `threads` threads; the returned concatenation of the `out`
-/// vectors has a deterministic order (independent of `threads`) but is not sorted. With `keep`,
-/// node pairs (a's node, b's node) for which keep returns false are not looked into: pairs of
-/// items under them are skipped.
-template <class R, class Test, class Keep = geom_detail::AnyNodePair>
-std::vector<R> collect_overlaps(const Bvh& a, const Bvh& b, bool self, int threads, Test&& test,
-                                const Keep& keep = {}) {
+/// vectors has a deterministic order (independent of `threads`) but is not sorted.
+template <class R, class Test>
+std::vector<R> collect_overlaps(const Bvh& a, const Bvh& b, bool self, int threads, Test&& test) {
   using geom_detail::NodePair;
   if (a.nodes.empty() || b.nodes.empty()) return {};
   // Breadth-first expansion of the root pair into enough tasks for load balance.
@@ -152,7 +143,7 @@ std::vector<R> collect_overlaps(const Bvh& a, const Bvh& b, bool self, int threa
   while (!tasks.empty() && tasks.size() < 256) {
     next.clear();
     for (const NodePair& p : tasks) {
-      if (!geom_detail::worth_visiting(a, b, self, p, keep)) continue;
+      if (!geom_detail::worth_visiting(a, b, self, p)) continue;
       if (!geom_detail::expand(a, b, self, p, next)) leaves.push_back(p);
     }
     tasks.swap(next);
@@ -161,26 +152,10 @@ std::vector<R> collect_overlaps(const Bvh& a, const Bvh& b, bool self, int threa
   std::vector<std::vector<R>> parts(tasks.size());
   parallel_chunks(tasks.size(), tasks.size(), threads, [&](std::size_t c, std::size_t, std::size_t) {
     auto visit = [&](std::uint32_t i, std::uint32_t j) { test(i, j, parts[c]); };
-    geom_detail::traverse_from(a, b, self, tasks[c], visit, keep);
+    geom_detail::traverse_from(a, b, self, tasks[c], visit);
   });
   std::vector<R> out;
   for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());
-  return out;
-}
-
-/// Per node of `t`: 1 when some item below it is marked (marked[item] != 0), else 0. For a
-/// `keep` of collect_overlaps that skips the pairs of unmarked subtrees.
-/// \pre marked.size() is the number of items of t.
-inline std::vector<char> marked_nodes(const Bvh& t, const std::vector<char>& marked) {
-  std::vector<char> out(t.nodes.size(), 0);
-  for (std::size_t k = t.nodes.size(); k-- > 0;) {  // children come after their parent
-    const BvhNode& n = t.nodes[k];
-    if (n.count == 0) {
-      out[k] = out[n.first] | out[n.first + 1];
-      continue;
-    }
-    for (std::uint32_t i = n.first; i < n.first + n.count && !out[k]; ++i) out[k] = marked[t.items[i]] != 0;
-  }
   return out;
 }
 
