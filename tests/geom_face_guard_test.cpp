@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <random>
 
 #include "geom/face_guard.hpp"
 #include "util/error.hpp"
@@ -117,6 +118,59 @@ TEST(FaceGuard, RegionsAnswerAsTheFullGuardInsideThem) {
   const std::uint32_t a = regional.add_vertex({30.2, 0.4, 0.0}), b = regional.add_vertex({30.6, 0.4, 0.0}),
                       c = regional.add_vertex({30.4, 0.6, 0.0});
   EXPECT_FALSE(regional.clear({{a, b, c}}, {}));  // across the accepted vertical face
+}
+
+// Two jittered grid sheets, z = 0 and z = h; returns the positions and faces, cell (i, j) of sheet
+// l as faces 2 (l n² + i n + j) and the next, split by the diagonal from corner (i, j).
+Row sheets(int n, double h, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> jitter(-0.02, 0.02);
+  Row r;
+  for (int l = 0; l < 2; ++l)
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; j <= n; ++j) r.positions.push_back({i + jitter(rng), j + jitter(rng), l * h + jitter(rng)});
+  auto id = [&](int l, int i, int j) { return std::uint32_t(l * (n + 1) * (n + 1) + i * (n + 1) + j); };
+  for (int l = 0; l < 2; ++l)
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        r.faces.push_back({id(l, i, j), id(l, i + 1, j), id(l, i + 1, j + 1)});
+        r.faces.push_back({id(l, i, j), id(l, i + 1, j + 1), id(l, i, j + 1)});
+      }
+  return r;
+}
+
+// With `reach` (how far the split's new vertex is off the edge) the guard passes over the faces
+// beyond it and answers exactly as without; told a reach that is too short, it passes over faces
+// the new ones do meet (so the faces beyond it are really left out).
+TEST(FaceGuard, ReachPassesOverFarFacesWithTheSameAnswers) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), height(0.05, 0.4);
+  const int n = 8;
+  int blocked = 0, free = 0, fooled = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const Row r = sheets(n, height(rng), rng);
+    FaceGuard g(r.positions, r.faces);
+    for (int k = 0; k < 20; ++k) {
+      const int l = int(rng() % 2), i = int(rng() % n), j = int(rng() % n);
+      const std::uint32_t f0 = std::uint32_t(2 * (l * n * n + i * n + j)), f1 = f0 + 1;
+      const std::uint32_t a = r.faces[f0][0], b = r.faces[f0][2];  // the shared diagonal
+      const glm::dvec3 mid = 0.5 * (r.positions[a] + r.positions[b]);
+      const glm::dvec3 m = mid + 0.6 * glm::dvec3(unit(rng), unit(rng), unit(rng));
+      const std::uint32_t v = g.add_vertex(m);
+      const std::vector<TriangleIds> faces = {
+          {a, v, r.faces[f0][1]}, {v, b, r.faces[f0][1]}, {a, v, r.faces[f1][2]}, {v, b, r.faces[f1][2]}};
+      const double reach = glm::distance(m, mid);
+      const std::uint32_t hit = g.first_snapshot_hit(faces, {f0, f1});
+      EXPECT_EQ(g.first_snapshot_hit(faces, {f0, f1}, reach), hit);
+      const bool clear = g.clear(faces, {f0, f1});
+      EXPECT_EQ(g.clear(faces, {f0, f1}, reach), clear);
+      EXPECT_EQ(g.clear_given(faces, {f0, f1}, hit, reach), clear);
+      clear ? ++free : ++blocked;
+      if (!clear && g.clear(faces, {f0, f1}, 0.1 * reach)) ++fooled;
+    }
+  }
+  EXPECT_GT(blocked, 50);
+  EXPECT_GT(free, 50);
+  EXPECT_GT(fooled, 10) << blocked << " " << free << " " << fooled;
 }
 
 }  // namespace

@@ -76,13 +76,63 @@ std::vector<Aabb> FaceGuard::boxes_of(const std::vector<TriangleIds>& faces) con
   return boxes;
 }
 
+// Every point of the new faces is within `reach` of a replaced face F, so a face g lying beyond
+// one of the five planes that bound F's prism (F's plane on either side, and the planes through
+// its edges perpendicular to it), by more than `reach`, for every F, cannot meet them. The
+// margins cover the rounding of these distances many times over (|x - corner k| is at most
+// |x - corner 0| plus the face's size in each coordinate).
+FaceGuard::Slabs FaceGuard::slabs(const std::vector<std::uint32_t>& replaced, double reach) const {
+  Slabs out;
+  if (reach < 0.0 || replaced.empty()) return out;
+  for (std::uint32_t f : replaced) {
+    Prism p;
+    for (int k = 0; k < 3; ++k) p.corner[k] = x_[faces_[f][k]];
+    const glm::dvec3 n = glm::cross(p.corner[1] - p.corner[0], p.corner[2] - p.corner[0]);
+    if (!(glm::length(n) > 0.0)) return {};  // a degenerate face has no prism: test everything
+    p.normal = glm::normalize(n);
+    for (int k = 0; k < 3; ++k) p.side[k] = glm::normalize(glm::cross(p.corner[(k + 1) % 3] - p.corner[k], p.normal));
+    const Aabb box = box_of(faces_[f]);
+    const glm::dvec3 extent = box.hi - box.lo;
+    p.reach = reach;
+    p.size = std::max({extent.x, extent.y, extent.z});
+    out.push_back(p);
+  }
+  return out;
+}
+
+bool FaceGuard::beyond(const Slabs& slabs, const TriangleIds& g) const {
+  for (const Prism& p : slabs) {
+    double limit[3], h[3];
+    for (int v = 0; v < 3; ++v) {
+      const glm::dvec3 d = x_[g[v]] - p.corner[0];
+      limit[v] = p.reach + 1e-9 * (p.reach + p.size + std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)}));
+      h[v] = glm::dot(p.normal, d);
+    }
+    if ((h[0] > limit[0] && h[1] > limit[1] && h[2] > limit[2]) || (-h[0] > limit[0] && -h[1] > limit[1] && -h[2] > limit[2]))
+      continue;
+    auto outside = [&](int k) {
+      for (int v = 0; v < 3; ++v)
+        if (!(glm::dot(p.side[k], x_[g[v]] - p.corner[k]) > limit[v])) return false;
+      return true;
+    };
+    if (!outside(0) && !outside(1) && !outside(2)) return false;
+  }
+  return true;
+}
+
 // The near faces come from the box of all the new faces together, which on a long rim chord
 // holds a thousand faces of S: each new face's own box rules out most of them before the exact
-// test (faces whose boxes miss cannot meet, not even at a shared corner).
-bool FaceGuard::meets(const std::vector<TriangleIds>& faces, const std::vector<Aabb>& boxes, std::uint32_t g) const {
+// test (faces whose boxes miss cannot meet, not even at a shared corner), and so do the slabs.
+bool FaceGuard::meets(const std::vector<TriangleIds>& faces, const std::vector<Aabb>& boxes, std::uint32_t g,
+                      const Slabs& near) const {
   const Aabb other = box_of(faces_[g]);
-  for (std::size_t k = 0; k < faces.size(); ++k)
-    if (boxes[k].overlaps(other) && mesh_faces_intersect(x_, faces[k], faces_[g])) return true;
+  bool tested = near.empty();
+  for (std::size_t k = 0; k < faces.size(); ++k) {
+    if (!boxes[k].overlaps(other)) continue;
+    if (!tested && beyond(near, faces_[g])) return false;
+    tested = true;
+    if (mesh_faces_intersect(x_, faces[k], faces_[g])) return true;
+  }
   return false;
 }
 
@@ -104,35 +154,40 @@ std::vector<std::uint32_t> FaceGuard::snapshot_near(const std::vector<TriangleId
   return hits;
 }
 
-bool FaceGuard::meets_snapshot(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const {
+bool FaceGuard::meets_snapshot(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced,
+                               const Slabs& near) const {
   const std::vector<Aabb> boxes = boxes_of(faces);
   for (std::uint32_t g : snapshot_near(faces, replaced)) {
     if (gone_[g]) continue;
-    if (meets(faces, boxes, g)) return true;
+    if (meets(faces, boxes, g, near)) return true;
   }
   return false;
 }
 
 std::uint32_t FaceGuard::first_snapshot_hit(const std::vector<TriangleIds>& faces,
-                                            const std::vector<std::uint32_t>& replaced) const {
+                                            const std::vector<std::uint32_t>& replaced, double reach) const {
   const std::vector<Aabb> boxes = boxes_of(faces);
+  const Slabs near = slabs(replaced, reach);
   for (std::uint32_t g : snapshot_near(faces, replaced))
-    if (meets(faces, boxes, g)) return g;
+    if (meets(faces, boxes, g, near)) return g;
   return kNoHit;
 }
 
 bool FaceGuard::clear_given(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced,
-                            std::uint32_t hit) const {
+                            std::uint32_t hit, double reach) const {
   if (hit != kNoHit && !gone_[hit]) return false;
-  if (hit != kNoHit && meets_snapshot(faces, replaced)) return false;
-  return clear_of_accepted(faces);
+  const Slabs near = slabs(replaced, reach);
+  if (hit != kNoHit && meets_snapshot(faces, replaced, near)) return false;
+  return clear_of_accepted(faces, near);
 }
 
-bool FaceGuard::clear(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const {
-  return !meets_snapshot(faces, replaced) && clear_of_accepted(faces);
+bool FaceGuard::clear(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced,
+                      double reach) const {
+  const Slabs near = slabs(replaced, reach);
+  return !meets_snapshot(faces, replaced, near) && clear_of_accepted(faces, near);
 }
 
-bool FaceGuard::clear_of_accepted(const std::vector<TriangleIds>& faces) const {
+bool FaceGuard::clear_of_accepted(const std::vector<TriangleIds>& faces, const Slabs& near) const {
   Aabb box;
   for (const TriangleIds& t : faces) box.expand(box_of(t));
   std::vector<std::uint32_t> hits;
@@ -145,7 +200,7 @@ bool FaceGuard::clear_of_accepted(const std::vector<TriangleIds>& faces) const {
     if (new_boxes_[k].overlaps(box)) hits.push_back(std::uint32_t(k));
   const std::vector<Aabb> boxes = boxes_of(faces);
   for (std::uint32_t k : hits)
-    if (meets(faces, boxes, std::uint32_t(s_faces_ + k))) return false;
+    if (meets(faces, boxes, std::uint32_t(s_faces_ + k), near)) return false;
   return true;
 }
 

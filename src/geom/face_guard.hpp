@@ -39,19 +39,24 @@ class FaceGuard {
   bool clear(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced) const {
     return clear(std::vector<TriangleIds>(faces), std::vector<std::uint32_t>(replaced));
   }
-  bool clear(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const;
+  /// `reach` >= 0 promises that every point of `faces` lies within `reach` of one of the
+  /// `replaced` faces (a split whose new vertex is at most `reach` off a replaced face): faces
+  /// farther than that from all of them are passed over without the exact test (same answer).
+  bool clear(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced,
+             double reach = -1.0) const;
 
   /// The first face of the snapshot, other than `replaced` and gone or not, that `faces` meet
   /// (in a fixed order), or kNoHit. Reads only what the constructor set up, so edits can be
   /// tested side by side (on several threads) before clear_given() decides each in turn.
   /// \throw RunError as clear().
   static constexpr std::uint32_t kNoHit = 0xffffffffu;
-  std::uint32_t first_snapshot_hit(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const;
+  std::uint32_t first_snapshot_hit(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced,
+                                   double reach = -1.0) const;
 
   /// clear(faces, replaced) for `hit` = first_snapshot_hit(faces, replaced): no hit, or one
   /// that is not gone, decide the snapshot's part at once; a hit gone since is tested again.
   bool clear_given(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced,
-                   std::uint32_t hit) const;
+                   std::uint32_t hit, double reach = -1.0) const;
 
   /// Records an accepted edit: `replaced` faces of the mesh are gone, `faces` exist.
   void accept(std::initializer_list<TriangleIds> faces, std::initializer_list<std::uint32_t> replaced) {
@@ -62,15 +67,26 @@ class FaceGuard {
  private:
   Aabb box_of(const TriangleIds& t) const;
   std::vector<Aabb> boxes_of(const std::vector<TriangleIds>& faces) const;
+  // Per replaced face, the prism its new faces lie in (see clear's `reach`); none: every face is
+  // tested.
+  struct Prism {
+    glm::dvec3 corner[3], normal, side[3];  // unit normals: the face's, and out of each edge k, k+1
+    double reach, size;                     // size: the face's largest coordinate extent
+  };
+  using Slabs = std::vector<Prism>;
+  Slabs slabs(const std::vector<std::uint32_t>& replaced, double reach) const;
+  bool beyond(const Slabs& slabs, const TriangleIds& g) const;
   // Whether one of `faces` (with their `boxes`) meets face g (exact).
-  bool meets(const std::vector<TriangleIds>& faces, const std::vector<Aabb>& boxes, std::uint32_t g) const;
+  bool meets(const std::vector<TriangleIds>& faces, const std::vector<Aabb>& boxes, std::uint32_t g,
+             const Slabs& near) const;
   // The snapshot faces other than `replaced` whose boxes overlap the box of `faces`.
   std::vector<std::uint32_t> snapshot_near(const std::vector<TriangleIds>& faces,
                                            const std::vector<std::uint32_t>& replaced) const;
   // Whether `faces` meet a face of the snapshot that is neither gone nor in `replaced`.
-  bool meets_snapshot(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced) const;
+  bool meets_snapshot(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced,
+                      const Slabs& near) const;
   // Whether `faces` meet no face accepted so far.
-  bool clear_of_accepted(const std::vector<TriangleIds>& faces) const;
+  bool clear_of_accepted(const std::vector<TriangleIds>& faces, const Slabs& near) const;
   void index_new_boxes();
 
   // Accepted faces' boxes are indexed by trees over contiguous runs of new_boxes_ whose sizes

@@ -114,11 +114,14 @@ class SplitBatch {
     std::vector<TriangleIds> faces;
     std::vector<std::uint32_t> replaced;
     std::uint32_t hit = FaceGuard::kNoHit;  // the guard's first_snapshot_hit, when found ahead
+    double reach = 0.0;                     // how far the new vertex is off e (see FaceGuard::clear)
   };
   EdgeEdit edge_edit(std::uint32_t e, float t, const glm::dvec3& q) {
     EdgeEdit edit{e, t, q, {}, {}, FaceGuard::kNoHit};
     const glm::uvec2 ab = s_.edges[e];
-    const std::uint32_t m = guard().add_vertex(glm::dvec3(glm::vec3(q)));
+    const glm::dvec3 stored = glm::dvec3(glm::vec3(q));  // as the split will place it
+    const std::uint32_t m = guard().add_vertex(stored);
+    edit.reach = glm::distance(stored, (1.0 - double(t)) * at(s_, ab.x) + double(t) * at(s_, ab.y)) * (1.0 + 1e-6);
     for (std::uint32_t k = s_.ef_offsets[e]; k < s_.ef_offsets[e + 1]; ++k) {
       const glm::uvec4 f = s_.faces[s_.ef_faces[k]];
       const std::uint32_t z = f.x + f.y + f.z - ab.x - ab.y;
@@ -134,7 +137,7 @@ class SplitBatch {
   bool add_edge(std::uint32_t e, float t, const glm::dvec3& q) {
     if (busy_edge(e)) return false;
     const EdgeEdit edit = edge_edit(e, t, q);
-    if (!guard().clear(edit.faces, edit.replaced)) return false;
+    if (!guard().clear(edit.faces, edit.replaced, edit.reach)) return false;
     accept(edit);
     return true;
   }
@@ -144,13 +147,13 @@ class SplitBatch {
   void find_hits(std::vector<EdgeEdit*>& edits, int threads) {
     const FaceGuard& g = guard();
     parallel_chunks(edits.size(), chunk_count(edits.size(), 8), threads, [&](std::size_t, std::size_t begin, std::size_t end) {
-      for (std::size_t k = begin; k < end; ++k) edits[k]->hit = g.first_snapshot_hit(edits[k]->faces, edits[k]->replaced);
+      for (std::size_t k = begin; k < end; ++k) edits[k]->hit = g.first_snapshot_hit(edits[k]->faces, edits[k]->replaced, edits[k]->reach);
     });
   }
 
   // add_edge for an edit whose first hit was found ahead: the same answer.
   bool add_prepared(const EdgeEdit& edit) {
-    if (busy_edge(edit.edge) || !guard().clear_given(edit.faces, edit.replaced, edit.hit)) return false;
+    if (busy_edge(edit.edge) || !guard().clear_given(edit.faces, edit.replaced, edit.hit, edit.reach)) return false;
     accept(edit);
     return true;
   }
