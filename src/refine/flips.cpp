@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
 
 #include "geom/bvh.hpp"
 #include "geom/bvh_traverse.hpp"
 #include "geom/intersect.hpp"
+#include "geom/quad_prism.hpp"
 #include "util/key_set.hpp"
 #include "util/parallel.hpp"
 
@@ -135,6 +137,42 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> meeting_faces(const std::ve
   return out;
 }
 
+// Each flip's new faces lie in the tetrahedron of its quad: a face that its QuadPrism separates
+// from the quad meets neither of them, and needs no exact test (on the bunny, most of the pairs
+// met in the check below).
+class FlipPrisms {
+ public:
+  // `quads`: per flip, its corners in order around the quad; `owner`: face -> flip or -1.
+  FlipPrisms(const std::vector<glm::dvec3>& x, std::vector<std::array<std::uint32_t, 4>> quads,
+             const std::vector<std::int32_t>& owner, int threads)
+      : quads_(std::move(quads)), owner_(owner), prisms_(quads_.size()) {
+    parallel_chunks(quads_.size(), chunk_count(quads_.size(), 1024), threads, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) {
+        const auto& q = quads_[k];
+        const std::array<glm::dvec3, 4> p = {x[q[0]], x[q[1]], x[q[2]], x[q[3]]};
+        const glm::dvec3 n = glm::cross(p[2] - p[0], p[3] - p[1]);
+        if (glm::length(n) > 0.0) prisms_[k].emplace(p, n);
+      }
+    });
+  }
+  // Whether face f's flip (if any) has a prism that separates face g from its quad.
+  bool separated(const std::vector<glm::dvec3>& x, std::uint32_t f, const TriangleIds& g) const {
+    const std::int32_t k = owner_[f];
+    if (k < 0 || !prisms_[std::size_t(k)]) return false;
+    const auto& q = quads_[std::size_t(k)];
+    std::array<int, 3> shared{-1, -1, -1};
+    for (int i = 0; i < 3; ++i)
+      for (int c = 0; c < 4; ++c)
+        if (g[i] == q[c]) shared[i] = c;
+    return prisms_[std::size_t(k)]->separates({x[g[0]], x[g[1]], x[g[2]]}, shared);
+  }
+
+ private:
+  std::vector<std::array<std::uint32_t, 4>> quads_;
+  const std::vector<std::int32_t>& owner_;
+  std::vector<std::optional<QuadPrism>> prisms_;
+};
+
 // The pairs (i, j), i < j, of faces of S that meet (exact, as mesh_faces_intersect), one of them
 // marked; in order. One tree over the marked faces, met with itself, and one over the others, met
 // with the first: one tree over all faces met with itself also walked the pairs of two unmarked
@@ -143,7 +181,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> meeting_faces(const std::ve
 std::vector<std::pair<std::uint32_t, std::uint32_t>> meeting_marked_faces(const std::vector<glm::dvec3>& x,
                                                                           const std::vector<TriangleIds>& faces,
                                                                           const std::vector<char>& marked,
-                                                                          int threads) {
+                                                                          const FlipPrisms& prisms, int threads) {
   using Pair = std::pair<std::uint32_t, std::uint32_t>;
   std::vector<std::uint32_t> ids[2];  // [0]: unmarked faces, [1]: marked ones, in face order
   for (std::uint32_t f = 0; f < faces.size(); ++f) ids[marked[f] != 0].push_back(f);
@@ -159,6 +197,8 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> meeting_marked_faces(const 
     return collect_overlaps<Pair>(trees[1], trees[other], self, threads,
                                   [&](std::uint32_t i, std::uint32_t j, std::vector<Pair>& found) {
                                     const std::uint32_t f = ids[1][i], g = ids[other][j];
+                                    if (prisms.separated(x, f, faces[g]) || (other == 1 && prisms.separated(x, g, faces[f])))
+                                      return;
                                     if (mesh_faces_intersect(x, faces[f], faces[g]))
                                       found.emplace_back(std::min(f, g), std::max(f, g));
                                   });
@@ -212,7 +252,13 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
   const std::vector<glm::dvec3> x = double_positions(s);
   std::vector<TriangleIds> faces = face_triangles(s);
   std::vector<char> flipped(faces.size(), 0);
-  for (const Made& m : made) flipped[m.faces[0]] = flipped[m.faces[1]] = 1;
+  std::vector<std::array<std::uint32_t, 4>> quads;  // new faces (c, a, d), (d, b, c): c, a, d, b
+  for (const Made& m : made) {
+    flipped[m.faces[0]] = flipped[m.faces[1]] = 1;
+    const TriangleIds &n0 = faces[m.faces[0]], &n1 = faces[m.faces[1]];
+    quads.push_back({n0[0], n0[1], n0[2], n1[1]});
+  }
+  const FlipPrisms prisms(x, std::move(quads), owner, o.threads);
   std::vector<std::uint32_t> check;
   std::size_t undone = 0;
   // Over the faces as they are after the first undos, built only when there are any. A face
@@ -227,7 +273,7 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
       tree_options.leaf_size = kFlipTreeLeaf;
       all = build_bvh(triangle_boxes(x, faces, o.threads), tree_options);
     }
-    const auto meeting = first ? meeting_marked_faces(x, faces, flipped, o.threads)
+    const auto meeting = first ? meeting_marked_faces(x, faces, flipped, prisms, o.threads)
                                : meeting_faces(x, faces, check, all, o.threads);
     for (const auto& [f, g] : meeting) {
       // A flip's faces meeting S's: that flip goes; two flips' faces meeting: the later one.
