@@ -270,9 +270,7 @@ bool mesh_faces_intersect(const std::vector<dvec3>& positions, const TriangleIds
         }
       }
   auto at = [&](const TriangleIds& t, int k) -> const dvec3& { return positions[t[((k % 3) + 3) % 3]]; };
-  // tj's corners against ti's plane first, as for a shared vertex (callers testing a large new face
-  // against the small faces near it pass it as ti: its plane separates most of them at once).
-  if (shared == 0) return triangles_intersect({at(tj, 0), at(tj, 1), at(tj, 2)}, {at(ti, 0), at(ti, 1), at(ti, 2)});
+  if (shared == 0) return triangles_intersect({at(ti, 0), at(ti, 1), at(ti, 2)}, {at(tj, 0), at(tj, 1), at(tj, 2)});
   if (shared == 1)
     return meet_beyond_shared_vertex(at(ti, first_i), at(ti, first_i + 1), at(ti, first_i + 2), at(tj, first_j + 1),
                                      at(tj, first_j + 2));
