@@ -76,47 +76,23 @@ std::vector<Aabb> FaceGuard::boxes_of(const std::vector<TriangleIds>& faces) con
   return boxes;
 }
 
-// Every point of the new faces is within `reach` of a replaced face F, so a face g lying beyond
-// one of the five planes that bound F's prism (F's plane on either side, and the planes through
-// its edges perpendicular to it), by more than `reach`, for every F, cannot meet them. The
-// margins cover the rounding of these distances many times over (|x - corner k| is at most
-// |x - corner 0| plus the face's size in each coordinate).
+// Every point of the new faces is within `reach` of a replaced face F, so a face g that the
+// prism around F grown by `reach` separates from it, for every F, cannot meet them.
 FaceGuard::Slabs FaceGuard::slabs(const std::vector<std::uint32_t>& replaced, double reach) const {
   Slabs out;
   if (reach < 0.0 || replaced.empty()) return out;
   for (std::uint32_t f : replaced) {
-    Prism p;
-    for (int k = 0; k < 3; ++k) p.corner[k] = x_[faces_[f][k]];
-    const glm::dvec3 n = glm::cross(p.corner[1] - p.corner[0], p.corner[2] - p.corner[0]);
+    const glm::dvec3 a = x_[faces_[f][0]], b = x_[faces_[f][1]], c = x_[faces_[f][2]];
+    const glm::dvec3 n = glm::cross(b - a, c - a);
     if (!(glm::length(n) > 0.0)) return {};  // a degenerate face has no prism: test everything
-    p.normal = glm::normalize(n);
-    for (int k = 0; k < 3; ++k) p.side[k] = glm::normalize(glm::cross(p.corner[(k + 1) % 3] - p.corner[k], p.normal));
-    const Aabb box = box_of(faces_[f]);
-    const glm::dvec3 extent = box.hi - box.lo;
-    p.reach = reach;
-    p.size = std::max({extent.x, extent.y, extent.z});
-    out.push_back(p);
+    out.emplace_back(std::array<glm::dvec3, 4>{a, b, c, c}, n, reach);
   }
   return out;
 }
 
 bool FaceGuard::beyond(const Slabs& slabs, const TriangleIds& g) const {
-  for (const Prism& p : slabs) {
-    double limit[3], h[3];
-    for (int v = 0; v < 3; ++v) {
-      const glm::dvec3 d = x_[g[v]] - p.corner[0];
-      limit[v] = p.reach + 1e-9 * (p.reach + p.size + std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)}));
-      h[v] = glm::dot(p.normal, d);
-    }
-    if ((h[0] > limit[0] && h[1] > limit[1] && h[2] > limit[2]) || (-h[0] > limit[0] && -h[1] > limit[1] && -h[2] > limit[2]))
-      continue;
-    auto outside = [&](int k) {
-      for (int v = 0; v < 3; ++v)
-        if (!(glm::dot(p.side[k], x_[g[v]] - p.corner[k]) > limit[v])) return false;
-      return true;
-    };
-    if (!outside(0) && !outside(1) && !outside(2)) return false;
-  }
+  for (const QuadPrism& p : slabs)
+    if (!p.separates({x_[g[0]], x_[g[1]], x_[g[2]]}, {-1, -1, -1})) return false;
   return true;
 }
 

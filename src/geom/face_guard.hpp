@@ -9,6 +9,7 @@
 
 #include "geom/bvh.hpp"
 #include "geom/intersect.hpp"
+#include "geom/quad_prism.hpp"
 
 namespace fracref {
 
@@ -67,13 +68,9 @@ class FaceGuard {
  private:
   Aabb box_of(const TriangleIds& t) const;
   std::vector<Aabb> boxes_of(const std::vector<TriangleIds>& faces) const;
-  // Per replaced face, the prism its new faces lie in (see clear's `reach`); none: every face is
-  // tested.
-  struct Prism {
-    glm::dvec3 corner[3], normal, side[3];  // unit normals: the face's, and out of each edge k, k+1
-    double reach, size;                     // size: the face's largest coordinate extent
-  };
-  using Slabs = std::vector<Prism>;
+  // Per replaced face, the prism (grown by clear's `reach`) its new faces lie in; none: every
+  // face is tested.
+  using Slabs = std::vector<QuadPrism>;
   Slabs slabs(const std::vector<std::uint32_t>& replaced, double reach) const;
   bool beyond(const Slabs& slabs, const TriangleIds& g) const;
   // Whether one of `faces` (with their `boxes`) meets face g (exact).

@@ -15,7 +15,7 @@ double max_abs(const glm::dvec3& v) { return std::max({std::abs(v.x), std::abs(v
 // most half a margin, and a point of g beyond it when that passes a whole margin; the margins
 // (1e-9 of the sizes and coordinates involved) dwarf the rounding of these dot products (~1e-15
 // of them). A plane through a shared corner is placed at that corner exactly (n . (x - corner)).
-QuadPrism::QuadPrism(const std::array<glm::dvec3, 4>& p, const glm::dvec3& normal) : p_(p) {
+QuadPrism::QuadPrism(const std::array<glm::dvec3, 4>& p, const glm::dvec3& normal, double grow) : p_(p), grow_(grow) {
   normal_ = glm::normalize(normal);
   glm::dvec3 lo = p[0], hi = p[0];
   for (const glm::dvec3& v : p) lo = glm::min(lo, v), hi = glm::max(hi, v);
@@ -46,8 +46,9 @@ QuadPrism::QuadPrism(const std::array<glm::dvec3, 4>& p, const glm::dvec3& norma
 
 bool QuadPrism::separates(const std::array<glm::dvec3, 3>& g, const std::array<int, 3>& shared) const {
   const int n_shared = int(shared[0] >= 0) + int(shared[1] >= 0) + int(shared[2] >= 0);
-  if (n_shared >= 2) return false;
-  const double margin = 1e-9 * (size_ + scale_ + std::max({max_abs(g[0]), max_abs(g[1]), max_abs(g[2])}));
+  if (n_shared >= 2 || (n_shared == 1 && grow_ > 0.0)) return false;
+  // The grown planes: each moved out by grow_ (its margin covers the rounding of that sum too).
+  const double margin = grow_ + 1e-9 * (grow_ + size_ + scale_ + std::max({max_abs(g[0]), max_abs(g[1]), max_abs(g[2])}));
   if (n_shared == 1) {
     const int c = shared[0] >= 0 ? shared[0] : (shared[1] >= 0 ? shared[1] : shared[2]);
     auto all_beyond = [&](const glm::dvec3& n) {
