@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "geom/ccd.hpp"
@@ -108,6 +109,30 @@ TEST(GeomCcd, ExactEdgeEdgeContactsAreAlwaysFound) {
     const double travel[4] = {glm::length(x1[0] - x0[0]), glm::length(x1[1] - x0[1]), glm::length(x1[2] - x0[2]),
                               glm::length(x1[3] - x0[3])};
     ASSERT_TRUE(fracref::ccd_edge_edge(x0[0], x0[1], x0[2], x0[3], x1[0], x1[1], x1[2], x1[3], travel, {})) << it;
+  }
+}
+
+// The narrow phase's cheap separation filters (projections on a few directions) must never clear
+// a pair that touches: surface neighbours, nearly coplanar, that meet after a motion far shorter
+// than their size (the pairs those filters are for). Dyadic coordinates make every contact exact.
+TEST(GeomCcd, TinyMotionsOntoNeighboursAreAlwaysFound) {
+  std::mt19937_64 rng(23);
+  std::uniform_int_distribution<int> small(-8, 8), flat(-1, 1);
+  auto tiny = [&] { return std::ldexp(1.0, -20) * dvec3(small(rng), small(rng), flat(rng)); };
+  auto in_plane = [&] { return dvec3(small(rng), small(rng), 0.25 * flat(rng)); };
+  for (int it = 0; it < 4000; ++it) {
+    // Edge-edge: cd passes through the point at parameter s of ab at t = 1.
+    const dvec3 a = in_plane(), b = in_plane(), u = in_plane();
+    const double s = 0.125 * (it % 9);
+    const dvec3 p = a + s * (b - a), c1 = p + 0.5 * u, d1 = p - 0.25 * u, w = tiny();
+    const double travel[4] = {0.0, 0.0, glm::length(w), glm::length(w)};
+    ASSERT_TRUE(fracref::ccd_edge_edge(a, b, c1 + w, d1 + w, a, b, c1, d1, travel, {})) << it;
+    // Vertex-triangle: the vertex lands on the triangle at dyadic weights at t = 1.
+    const dvec3 e = in_plane(), f = in_plane(), g = in_plane();
+    const double wa = 0.125 * (it % 5), wb = 0.125 * (it % 3);
+    const dvec3 q = e + wa * (f - e) + wb * (g - e);
+    const double travel_vt[4] = {glm::length(w), 0.0, 0.0, 0.0};
+    ASSERT_TRUE(fracref::ccd_vertex_triangle(q + w, e, f, g, q, e, f, g, travel_vt, {})) << it;
   }
 }
 
