@@ -34,15 +34,58 @@ double trilinear(const Grid3& grid, const AxisSample& x, const AxisSample& y, co
   return acc;
 }
 
+// One axis of a lookup ready for the inner loop: the two nodes' offsets into the values (index
+// times the axis's stride) and their weights 1 - t and t, the products trilinear forms.
+struct AxisLookup {
+  std::size_t offset[2];
+  double w[2];
+};
+
+AxisLookup axis_lookup(const AxisSample& s, std::size_t stride) {
+  return {{s.i[0] * stride, s.i[1] * stride}, {1 - s.t, s.t}};
+}
+
+// trilinear's arithmetic, term for term, on prepared lookups.
+double trilinear(const float* v, const AxisLookup& x, const AxisLookup& y, const AxisLookup& z) {
+  double acc = 0.0;
+  for (int k = 0; k < 8; ++k) {
+    const int bx = k & 1, by = (k >> 1) & 1, bz = (k >> 2) & 1;
+    acc += x.w[bx] * y.w[by] * z.w[bz] * v[x.offset[bx] + y.offset[by] + z.offset[bz]];
+  }
+  return acc;
+}
+
 // A level's axis lookups at every base-grid coordinate of one axis, shifted by -h, 0 and +h
 // (the level's cell): the central differences of all base nodes share them.
-std::vector<std::array<AxisSample, 3>> axis_table(const Grid3& level, const Grid3& base, int a) {
-  std::vector<std::array<AxisSample, 3>> out(base.dims[a]);
+std::vector<std::array<AxisLookup, 3>> axis_table(const Grid3& level, const Grid3& base, int a) {
+  const std::size_t stride = a == 0 ? 1 : (a == 1 ? std::size_t(level.dims.x) : std::size_t(level.dims.x) * level.dims.y);
+  std::vector<std::array<AxisLookup, 3>> out(base.dims[a]);
   for (unsigned k = 0; k < base.dims[a]; ++k) {
     const double p = base.origin[a] + base.cell * double(k);
-    out[k] = {axis_sample(level, a, p - level.cell), axis_sample(level, a, p), axis_sample(level, a, p + level.cell)};
+    out[k] = {axis_lookup(axis_sample(level, a, p - level.cell), stride),
+              axis_lookup(axis_sample(level, a, p), stride), axis_lookup(axis_sample(level, a, p + level.cell), stride)};
   }
   return out;
+}
+
+// ψ̃ and the averaged gradient at base node (x, y, z), as documented for precompute_field_gradient.
+glm::vec4 node_field(const std::vector<Grid3>& pyramid, const std::vector<std::array<std::vector<std::array<AxisLookup, 3>>, 3>>& tables,
+                     unsigned x, unsigned y, unsigned z) {
+  glm::dvec3 grad(0.0);
+  double value = 0.0;
+  for (std::size_t l = 0; l < pyramid.size(); ++l) {
+    const float* v = pyramid[l].values.data();
+    const double h = pyramid[l].cell;
+    const std::array<AxisLookup, 3>& sx = tables[l][0][x];
+    const std::array<AxisLookup, 3>& sy = tables[l][1][y];
+    const std::array<AxisLookup, 3>& sz = tables[l][2][z];
+    value += trilinear(v, sx[1], sy[1], sz[1]);
+    grad.x += (trilinear(v, sx[2], sy[1], sz[1]) - trilinear(v, sx[0], sy[1], sz[1])) / (2.0 * h);
+    grad.y += (trilinear(v, sx[1], sy[2], sz[1]) - trilinear(v, sx[1], sy[0], sz[1])) / (2.0 * h);
+    grad.z += (trilinear(v, sx[1], sy[1], sz[2]) - trilinear(v, sx[1], sy[1], sz[0])) / (2.0 * h);
+  }
+  const double levels = double(pyramid.size());
+  return glm::vec4(float(value / levels), glm::vec3(grad / levels));
 }
 
 }  // namespace
@@ -56,31 +99,13 @@ double sample_trilinear(const Grid3& grid, const glm::dvec3& p) {
 FieldGrid4 precompute_field_gradient(const std::vector<Grid3>& pyramid) {
   const Grid3& base = pyramid.front();
   FieldGrid4 out{base.dims, base.origin, base.cell, std::vector<glm::vec4>(base.size())};
-  const double levels = double(pyramid.size());
-  std::vector<std::array<std::vector<std::array<AxisSample, 3>>, 3>> tables(pyramid.size());
+  std::vector<std::array<std::vector<std::array<AxisLookup, 3>>, 3>> tables(pyramid.size());
   for (std::size_t l = 0; l < pyramid.size(); ++l)
     for (int a = 0; a < 3; ++a) tables[l][a] = axis_table(pyramid[l], base, a);
   auto slab = [&](unsigned z0, unsigned z1) {
     for (unsigned z = z0; z < z1; ++z)
       for (unsigned y = 0; y < base.dims.y; ++y)
-        for (unsigned x = 0; x < base.dims.x; ++x) {
-          glm::dvec3 grad(0.0);
-          double value = 0.0;
-          for (std::size_t l = 0; l < pyramid.size(); ++l) {
-            const Grid3& level = pyramid[l];
-            const double h = level.cell;
-            const std::array<AxisSample, 3> s[3] = {tables[l][0][x], tables[l][1][y], tables[l][2][z]};
-            value += trilinear(level, s[0][1], s[1][1], s[2][1]);
-            for (int a = 0; a < 3; ++a) {
-              AxisSample plus[3] = {s[0][1], s[1][1], s[2][1]}, minus[3] = {s[0][1], s[1][1], s[2][1]};
-              plus[a] = s[a][2];
-              minus[a] = s[a][0];
-              grad[a] += (trilinear(level, plus[0], plus[1], plus[2]) - trilinear(level, minus[0], minus[1], minus[2])) /
-                         (2.0 * h);
-            }
-          }
-          out.values[base.index(x, y, z)] = glm::vec4(float(value / levels), glm::vec3(grad / levels));
-        }
+        for (unsigned x = 0; x < base.dims.x; ++x) out.values[base.index(x, y, z)] = node_field(pyramid, tables, x, y, z);
   };
   // Each node is computed on its own, so splitting the z range cannot change a value.
   std::thread other(slab, 0u, base.dims.z / 2);

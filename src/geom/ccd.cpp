@@ -264,11 +264,10 @@ double segment_distance(const dvec3& p, const dvec3& q, const dvec3& r, const dv
 // plus the solver's margins (split: the first corner of the second primitive).
 double needed_distance(const dvec3& p, const dvec3& q, const dvec3& r, const dvec3& s, const double travel[4],
                        int split, const CcdOptions& o) {
-  const double reach = std::max(travel[0], split == 1 ? 0.0 : travel[1]) +
-                       std::max({travel[split], travel[3], split == 1 ? travel[2] : 0.0});
-  double scale = 0.0;
-  for (const dvec3* x : {&p, &q, &r, &s}) scale = std::max({scale, std::abs(x->x), std::abs(x->y), std::abs(x->z)});
-  return reach + o.min_distance + o.tolerance + 1e-12 * scale;
+  const double first = split == 1 ? travel[0] : std::max(travel[0], travel[1]);
+  const double second = std::max(split == 1 ? std::max(travel[1], travel[2]) : travel[2], travel[3]);
+  const dvec3 m = glm::max(glm::max(glm::abs(p), glm::abs(q)), glm::max(glm::abs(r), glm::abs(s)));
+  return (first + second) + o.min_distance + o.tolerance + 1e-12 * std::max(m.x, std::max(m.y, m.z));
 }
 
 bool far_apart(double distance, double needed) { return distance > needed + 1e-9 * distance; }
