@@ -58,19 +58,20 @@ double trilinear(const float* v, const AxisLookup& x, const AxisLookup& y, const
 // A level's axis lookups at every base-grid coordinate of one axis, shifted by -h, 0 and +h
 // (the level's cell): the central differences of all base nodes share them.
 std::vector<std::array<AxisLookup, 3>> axis_table(const Grid3& level, const Grid3& base, int a) {
-  const std::size_t stride = a == 0 ? 1 : (a == 1 ? std::size_t(level.dims.x) : std::size_t(level.dims.x) * level.dims.y);
+  const std::size_t nx = level.dims.x, stride = a == 0 ? 1 : (a == 1 ? nx : nx * level.dims.y);
   std::vector<std::array<AxisLookup, 3>> out(base.dims[a]);
   for (unsigned k = 0; k < base.dims[a]; ++k) {
     const double p = base.origin[a] + base.cell * double(k);
-    out[k] = {axis_lookup(axis_sample(level, a, p - level.cell), stride),
-              axis_lookup(axis_sample(level, a, p), stride), axis_lookup(axis_sample(level, a, p + level.cell), stride)};
+    out[k] = {axis_lookup(axis_sample(level, a, p - level.cell), stride), axis_lookup(axis_sample(level, a, p), stride),
+              axis_lookup(axis_sample(level, a, p + level.cell), stride)};
   }
   return out;
 }
 
 // ψ̃ and the averaged gradient at base node (x, y, z), as documented for precompute_field_gradient.
-glm::vec4 node_field(const std::vector<Grid3>& pyramid, const std::vector<std::array<std::vector<std::array<AxisLookup, 3>>, 3>>& tables,
-                     unsigned x, unsigned y, unsigned z) {
+using LookupTables = std::vector<std::array<std::vector<std::array<AxisLookup, 3>>, 3>>;  // [level][axis][coord]
+
+glm::vec4 node_field(const std::vector<Grid3>& pyramid, const LookupTables& tables, unsigned x, unsigned y, unsigned z) {
   glm::dvec3 grad(0.0);
   double value = 0.0;
   for (std::size_t l = 0; l < pyramid.size(); ++l) {
@@ -99,7 +100,7 @@ double sample_trilinear(const Grid3& grid, const glm::dvec3& p) {
 FieldGrid4 precompute_field_gradient(const std::vector<Grid3>& pyramid) {
   const Grid3& base = pyramid.front();
   FieldGrid4 out{base.dims, base.origin, base.cell, std::vector<glm::vec4>(base.size())};
-  std::vector<std::array<std::vector<std::array<AxisLookup, 3>>, 3>> tables(pyramid.size());
+  LookupTables tables(pyramid.size());
   for (std::size_t l = 0; l < pyramid.size(); ++l)
     for (int a = 0; a < 3; ++a) tables[l][a] = axis_table(pyramid[l], base, a);
   auto slab = [&](unsigned z0, unsigned z1) {

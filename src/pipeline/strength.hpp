@@ -15,7 +15,8 @@
 namespace fracref {
 
 /// Distance from every node of `grid` (values ignored) to the triangle mesh, in scene units.
-/// Uses a BVH and `threads` threads; deterministic.
+/// Uses a BVH and `threads` threads; deterministic, each value exactly the least distance to a
+/// triangle as closest_point_on_triangle measures it.
 /// \pre the mesh has at least one triangle.
 Grid3 distance_grid(const Grid3& grid, const std::vector<glm::dvec3>& positions,
                     const std::vector<std::array<std::uint32_t, 3>>& triangles, int threads = 2);
