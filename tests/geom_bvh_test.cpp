@@ -77,6 +77,33 @@ TEST(GeomBvh, BoxQueriesAndPairsMatchBruteForce) {
   EXPECT_TRUE(fracref::build_bvh(std::vector<Aabb>{}).nodes.empty());
 }
 
+TEST(GeomBvh, ItemsNumberedInLeafOrderKeepTheirBoxesAndPairs) {
+  std::mt19937_64 rng(12);
+  const auto boxes = random_boxes(rng, 900, 0.9);
+  Bvh tree = fracref::build_bvh(boxes, {8});
+  const std::vector<std::uint32_t> before = tree.items;
+  const auto pairs = fracref::self_overlapping_pairs(tree, 2);
+  const std::vector<std::uint32_t> old = fracref::number_items_in_leaf_order(tree);
+  EXPECT_EQ(old, before);
+  std::vector<std::uint32_t> sorted = old;
+  std::sort(sorted.begin(), sorted.end());
+  for (std::uint32_t k = 0; k < tree.items.size(); ++k) {
+    EXPECT_EQ(tree.items[k], k);
+    EXPECT_EQ(sorted[k], k);  // a permutation of the old ids
+    EXPECT_EQ(tree.leaf_boxes[k].lo, boxes[old[k]].lo);
+  }
+  // The same pairs, named by slot: mapped back, exactly the old ones.
+  auto renamed = fracref::self_overlapping_pairs(tree, 2);
+  for (auto& [i, j] : renamed) {
+    i = old[i];
+    j = old[j];
+    if (j < i) std::swap(i, j);
+  }
+  std::sort(renamed.begin(), renamed.end());
+  EXPECT_EQ(renamed, pairs);
+  ASSERT_GT(pairs.size(), 100u);
+}
+
 TEST(GeomBvh, ThreadedBuildGivesTheSameAnswers) {
   std::mt19937_64 rng(6);
   const auto boxes = random_boxes(rng, 30000, 0.15);

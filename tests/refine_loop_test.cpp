@@ -379,6 +379,22 @@ TEST(RefineLoop, FlipsRemoveSlimTrianglesAndKeepInvariants) {
   EXPECT_EQ(flip_slim_triangles(bent, psi, none, FlipOptions{20.0, 5.0}), 0u);
 }
 
+TEST(RefineLoop, NoFlipOntoAnEdgeThatExists) {
+  // The slim pair above, plus a face (c, d, e) standing on the would-be diagonal c-d.
+  std::vector<glm::vec4> p = {{0, 0, 0, 1}, {2, 0, 0, 1}, {1, 0.1f, 0, 1}, {1, -1, 0, 1}, {1, -0.5f, 3, 1}};
+  FractureSurface s = make_fracture_surface(p, {{0, 1, 2, 0}, {1, 0, 3, 0}, {2, 3, 4, 0}}, {{1, 0}, {1, 0}, {1, 0}}, 2);
+  const std::uint32_t ab = find_edge(s, 0, 1);
+  ASSERT_NE(ab, kNoEdge);
+  glm::uvec2 opposite, faces;
+  ASSERT_TRUE(flip_quad(s, ab, opposite, faces));
+  EXPECT_EQ(opposite, glm::uvec2(2, 3));
+  EXPECT_EQ(faces, glm::uvec2(0, 1));
+  EXPECT_FALSE(flip_candidates(s, ab, opposite, faces));
+  std::vector<glm::vec4> psi(s.positions.size(), glm::vec4(1.0f, 0.0f, 0.0f, 0.0f));
+  EXPECT_EQ(flip_slim_triangles(s, psi, ExteriorSurface{}, FlipOptions{20.0, 5.0}), 0u);
+  ASSERT_EQ(validate(s), "");
+}
+
 namespace {
 
 // How many pairs of S's faces meet (up to 10), by the exact mesh-level search.

@@ -295,6 +295,12 @@ Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options) {
   return bvh;
 }
 
+std::vector<std::uint32_t> number_items_in_leaf_order(Bvh& bvh) {
+  std::vector<std::uint32_t> old = bvh.items;
+  for (std::uint32_t k = 0; k < bvh.items.size(); ++k) bvh.items[k] = k;
+  return old;
+}
+
 Bvh build_bvh(const std::vector<dvec3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles,
               const BvhOptions& options) {
   for (std::size_t v = 0; v < positions.size(); ++v)

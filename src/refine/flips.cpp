@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <set>
 
 #include "geom/bvh.hpp"
 #include "geom/bvh_traverse.hpp"
@@ -106,10 +105,12 @@ std::vector<FlipCandidate> candidate_flips(const FractureSurface& s, std::span<c
       glm::uvec2 cd, ff;
       if (s.edge_special[e] != kEdgeRegular) continue;
       const std::uint32_t f1 = s.ef_faces[s.ef_offsets[e]], f2 = s.ef_faces[s.ef_offsets[e] + 1];
-      if (!(slim[f1] || slim[f2]) || !flip_candidates(s, e, cd, ff)) continue;
+      if (!(slim[f1] || slim[f2]) || !flip_quad(s, e, cd, ff)) continue;
       const glm::uvec2 ab = s.edges[e];
       const Quad q{x(ab.x), x(ab.y), x(cd.x), x(cd.y), samples[ab.x].x, samples[ab.y].x, samples[cd.x].x, samples[cd.y].x};
-      if (flip_improves(q, o) && !touches_junction(s, ab, cd)) parts[c].push_back({e, cd, ff});
+      // The edge table's search last: a fifth of the quads get past flip_improves.
+      if (flip_improves(q, o) && find_edge(s, cd.x, cd.y) == kNoEdge && !touches_junction(s, ab, cd))
+        parts[c].push_back({e, cd, ff});
     }
   });
   std::vector<FlipCandidate> out;
@@ -117,100 +118,184 @@ std::vector<FlipCandidate> candidate_flips(const FractureSurface& s, std::span<c
   return out;
 }
 
-// The pairs (i, j) of faces that meet (exact, as mesh_faces_intersect), i from `query` and j any
-// face of S other than i; in order.
-std::vector<std::pair<std::uint32_t, std::uint32_t>> meeting_faces(const std::vector<glm::dvec3>& x,
-                                                                   const std::vector<TriangleIds>& faces,
-                                                                   const std::vector<std::uint32_t>& query,
-                                                                   const Bvh& all, int threads) {
-  std::vector<TriangleIds> picked;
-  for (std::uint32_t f : query) picked.push_back(faces[f]);
-  BvhOptions o;
-  o.leaf_size = kFlipTreeLeaf;
-  o.threads = threads;
-  const Bvh tree = build_bvh(triangle_boxes(x, picked, threads), o);
-  using Pair = std::pair<std::uint32_t, std::uint32_t>;
-  auto out = collect_overlaps<Pair>(tree, all, false, threads, [&](std::uint32_t k, std::uint32_t j, std::vector<Pair>& found) {
-    if (query[k] != j && mesh_faces_intersect(x, faces[query[k]], faces[j])) found.emplace_back(query[k], j);
-  });
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 // Each flip's new faces lie in the tetrahedron of its quad: a face that its QuadPrism separates
 // from the quad meets neither of them, and needs no exact test (most of the pairs met in the
 // check below: a twentieth of the wall's instructions, though little of its time, which goes to
 // the traversal).
-class FlipPrisms {
+//
+// The check works flip by flip: one box per flip (its quad's, the union of its two new faces'
+// boxes) met with a tree over the other faces of S, one prism test per flip and face, then the
+// exact test of each new face whose own box meets the face's. Face by face (a tree over the new
+// faces) met 3.4M box pairs on the wall's last pass where this meets 1.8M, and ran each prism
+// test twice. What a pair reads is gathered per tree slot (number_items_in_leaf_order): read
+// through face ids, each pair cost a few cache misses, more than its tests.
+class FlipCheck {
  public:
-  // `quads`: per flip, its corners in order around the quad; `owner`: face -> flip or -1.
-  FlipPrisms(const std::vector<glm::dvec3>& x, std::vector<std::array<std::uint32_t, 4>> quads,
-             const std::vector<std::int32_t>& owner, int threads)
-      : x_(x), quads_(std::move(quads)), owner_(owner), prisms_(quads_.size()) {
-    parallel_chunks(quads_.size(), chunk_count(quads_.size(), 1024), threads, [&](std::size_t, std::size_t begin, std::size_t end) {
-      for (std::size_t k = begin; k < end; ++k) {
-        const auto& q = quads_[k];
-        const std::array<glm::dvec3, 4> p = {x[q[0]], x[q[1]], x[q[2]], x[q[3]]};
-        const glm::dvec3 n = glm::cross(p[2] - p[0], p[3] - p[1]);
-        if (glm::length(n) > 0.0) prisms_[k].emplace(p, n);
+  // `flip_faces`: per flip, its two new faces, as they stand in `faces`; `quads`: per flip, its
+  // corners in order around the quad. Reads `faces` at every call: undone flips' faces restored.
+  FlipCheck(const std::vector<glm::dvec3>& x, const std::vector<TriangleIds>& faces,
+            const std::vector<std::array<std::uint32_t, 2>>& flip_faces, const std::vector<std::array<std::uint32_t, 4>>& quads,
+            const std::vector<char>& flipped, int threads)
+      : x_(x), faces_(faces), threads_(threads) {
+    const std::vector<Aabb> boxes = triangle_boxes(x, faces, threads);
+    std::vector<std::uint32_t> others;
+    for (std::uint32_t f = 0; f < faces.size(); ++f)
+      if (!flipped[f]) others.push_back(f);
+    build_trees(boxes, flip_faces, others);
+    flips_.resize(flip_ids_.size());
+    parallel_chunks(flips_.size(), chunk_count(flips_.size(), 1024), threads, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) flips_[k] = flip_slot(boxes, flip_faces[flip_ids_[k]], quads[flip_ids_[k]]);
+    });
+    others_.resize(other_ids_.size());
+    parallel_chunks(others_.size(), chunk_count(others_.size(), 4096), threads, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t j = begin; j < end; ++j) {
+        const TriangleIds& g = faces[other_ids_[j]];
+        others_[j] = {g, {x[g[0]], x[g[1]], x[g[2]]}};
       }
     });
   }
-  // Whether face f's flip (if any) has a prism that separates face g from its quad.
-  bool separated(std::uint32_t f, const TriangleIds& g) const {
-    const std::int32_t k = owner_[f];
-    if (k < 0 || !prisms_[std::size_t(k)]) return false;
-    const auto& q = quads_[std::size_t(k)];
-    std::array<int, 3> shared{-1, -1, -1};
-    for (int i = 0; i < 3; ++i)
-      for (int c = 0; c < 4; ++c)
-        if (g[i] == q[c]) shared[i] = c;
-    return prisms_[std::size_t(k)]->separates({x_[g[0]], x_[g[1]], x_[g[2]]}, shared);
+
+  // The flips to undo for the first round: each whose new faces meet a face of S that is not
+  // flipped, and the later of two whose new faces meet (a flip's own two faces included); sorted.
+  std::vector<std::int32_t> first_round() const {
+    std::vector<std::int32_t> out = collect_overlaps<std::int32_t>(
+        flip_tree_, flip_tree_, true, threads_, [&](std::uint32_t k, std::uint32_t l, std::vector<std::int32_t>& found) {
+          if (flips_meet(k, l)) found.push_back(std::int32_t(std::max(flip_ids_[k], flip_ids_[l])));
+        });
+    const std::vector<std::int32_t> rest = collect_overlaps<std::int32_t>(
+        flip_tree_, other_tree_, false, threads_, [&](std::uint32_t k, std::uint32_t j, std::vector<std::int32_t>& found) {
+          if (flip_meets(k, j)) found.push_back(std::int32_t(flip_ids_[k]));
+        });
+    out.insert(out.end(), rest.begin(), rest.end());
+    const std::size_t chunks = chunk_count(flips_.size(), 1024);
+    std::vector<std::vector<std::int32_t>> own(chunks);
+    parallel_chunks(flips_.size(), chunks, threads_, [&](std::size_t c, std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k)
+        if (mesh_faces_intersect(x_, flips_[k].ids[0], flips_[k].ids[1])) own[c].push_back(std::int32_t(flip_ids_[k]));
+    });
+    for (const auto& part : own) out.insert(out.end(), part.begin(), part.end());
+    return sorted_unique(std::move(out));
+  }
+
+  // The flips still made (`owner` of their faces >= 0) whose new faces meet one of `restored`
+  // (faces just put back, as they now stand in `faces`); sorted. Restored faces meeting each
+  // other or unflipped faces undo nothing: all of them were S's.
+  std::vector<std::int32_t> meeting_restored(const std::vector<std::uint32_t>& restored, const std::vector<std::int32_t>& owner) const {
+    std::vector<std::int32_t> out;
+    std::vector<std::uint32_t> near;
+    for (std::uint32_t r : restored) {
+      Aabb box;
+      for (std::uint32_t v : faces_[r]) box.expand(x_[v]);
+      near.clear();
+      query_box(flip_tree_, box, near);
+      for (std::uint32_t k : near) {
+        if (owner[flips_[k].faces[0]] < 0) continue;
+        for (int i = 0; i < 2; ++i)
+          if (flips_[k].boxes[i].overlaps(box) && mesh_faces_intersect(x_, flips_[k].ids[i], faces_[r])) {
+            out.push_back(std::int32_t(flip_ids_[k]));
+            break;
+          }
+      }
+    }
+    return sorted_unique(std::move(out));
   }
 
  private:
-  const std::vector<glm::dvec3>& x_;
-  std::vector<std::array<std::uint32_t, 4>> quads_;
-  const std::vector<std::int32_t>& owner_;
-  std::vector<std::optional<QuadPrism>> prisms_;
-};
-
-// The pairs (i, j), i < j, of faces of S that meet (exact, as mesh_faces_intersect), one of them
-// marked; in order. One tree over the marked faces, met with itself, and one over the others, met
-// with the first: one tree over all faces met with itself also walked the pairs of two unmarked
-// faces (a third of the bunny's 4.3M overlapping pairs), and a tree over the marked faces met
-// with one over all of them cost a build more and met each pair of two marked faces twice.
-std::vector<std::pair<std::uint32_t, std::uint32_t>> meeting_marked_faces(const std::vector<glm::dvec3>& x,
-                                                                          const std::vector<TriangleIds>& faces,
-                                                                          const std::vector<char>& marked,
-                                                                          const FlipPrisms& prisms, int threads) {
-  using Pair = std::pair<std::uint32_t, std::uint32_t>;
-  std::vector<std::uint32_t> ids[2];  // [0]: unmarked faces, [1]: marked ones, in face order
-  for (std::uint32_t f = 0; f < faces.size(); ++f) ids[marked[f] != 0].push_back(f);
-  Bvh trees[2];
-  parallel_chunks(2, 2, threads, [&](std::size_t k, std::size_t, std::size_t) {
-    std::vector<TriangleIds> picked(ids[k].size());
-    for (std::size_t i = 0; i < picked.size(); ++i) picked[i] = faces[ids[k][i]];
-    BvhOptions o;
-    o.leaf_size = kFlipTreeLeaf;
-    trees[k] = build_bvh(triangle_boxes(x, picked), o);
-  });
-  auto pairs = [&](bool self, int other) {
-    return collect_overlaps<Pair>(trees[1], trees[other], self, threads,
-                                  [&](std::uint32_t i, std::uint32_t j, std::vector<Pair>& found) {
-                                    const std::uint32_t f = ids[1][i], g = ids[other][j];
-                                    if (prisms.separated(f, faces[g]) || (other == 1 && prisms.separated(g, faces[f])))
-                                      return;
-                                    if (mesh_faces_intersect(x, faces[f], faces[g]))
-                                      found.emplace_back(std::min(f, g), std::max(f, g));
-                                  });
+  // What the traversals read, gathered in the trees' leaf order.
+  struct FlipSlot {
+    std::array<std::uint32_t, 2> faces;
+    std::array<TriangleIds, 2> ids;
+    std::array<Aabb, 2> boxes;
+    std::array<std::uint32_t, 4> quad;
+    std::optional<QuadPrism> prism;
   };
-  std::vector<Pair> out = pairs(true, 1);
-  const std::vector<Pair> rest = pairs(false, 0);
-  out.insert(out.end(), rest.begin(), rest.end());
-  std::sort(out.begin(), out.end());
-  return out;
-}
+  struct OtherSlot {
+    TriangleIds ids;
+    std::array<glm::dvec3, 3> p;
+  };
+
+  static std::vector<std::int32_t> sorted_unique(std::vector<std::int32_t> v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    return v;
+  }
+
+  FlipSlot flip_slot(const std::vector<Aabb>& boxes, const std::array<std::uint32_t, 2>& faces,
+                     const std::array<std::uint32_t, 4>& q) const {
+    FlipSlot out{faces, {faces_[faces[0]], faces_[faces[1]]}, {boxes[faces[0]], boxes[faces[1]]}, q, std::nullopt};
+    const std::array<glm::dvec3, 4> p = {x_[q[0]], x_[q[1]], x_[q[2]], x_[q[3]]};
+    const glm::dvec3 n = glm::cross(p[2] - p[0], p[3] - p[1]);
+    if (glm::length(n) > 0.0) out.prism.emplace(p, n);
+    return out;
+  }
+
+  void build_trees(const std::vector<Aabb>& boxes, const std::vector<std::array<std::uint32_t, 2>>& flip_faces,
+                   const std::vector<std::uint32_t>& others) {
+    parallel_chunks(2, 2, threads_, [&](std::size_t t, std::size_t, std::size_t) {
+      std::vector<Aabb> picked(t == 0 ? flip_faces.size() : others.size());
+      for (std::size_t k = 0; k < picked.size(); ++k) {
+        if (t == 1) {
+          picked[k] = boxes[others[k]];
+          continue;
+        }
+        picked[k] = boxes[flip_faces[k][0]];
+        picked[k].expand(boxes[flip_faces[k][1]]);
+      }
+      BvhOptions o;
+      o.leaf_size = kFlipTreeLeaf;
+      Bvh& tree = t == 0 ? flip_tree_ : other_tree_;
+      tree = build_bvh(picked, o);
+      std::vector<std::uint32_t> order = number_items_in_leaf_order(tree);
+      if (t == 0) flip_ids_ = std::move(order);
+      else for (std::uint32_t& k : order) k = others[k];
+      if (t == 1) other_ids_ = std::move(order);
+    });
+  }
+
+  // Whether flip k's prism separates the triangle with ids g and corners p from its quad.
+  bool separated(const FlipSlot& k, const TriangleIds& g, const std::array<glm::dvec3, 3>& p) const {
+    if (!k.prism) return false;
+    std::array<int, 3> shared{-1, -1, -1};
+    for (int i = 0; i < 3; ++i)
+      for (int c = 0; c < 4; ++c)
+        if (g[i] == k.quad[c]) shared[i] = c;
+    return k.prism->separates(p, shared);
+  }
+
+  // Whether a new face of flip k meets face j (slot of the tree over the faces not flipped).
+  bool flip_meets(std::uint32_t k, std::uint32_t j) const {
+    const FlipSlot& f = flips_[k];
+    const Aabb& box = other_tree_.leaf_boxes[j];
+    const bool near[2] = {f.boxes[0].overlaps(box), f.boxes[1].overlaps(box)};
+    if (!(near[0] || near[1]) || separated(f, others_[j].ids, others_[j].p)) return false;
+    for (int i = 0; i < 2; ++i)
+      if (near[i] && mesh_faces_intersect(x_, f.ids[i], others_[j].ids)) return true;
+    return false;
+  }
+
+  // Whether a new face of flip k meets one of flip l's.
+  bool flips_meet(std::uint32_t k, std::uint32_t l) const {
+    const FlipSlot &a = flips_[k], &b = flips_[l];
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) {
+        if (!a.boxes[i].overlaps(b.boxes[j])) continue;
+        const TriangleIds &f = a.ids[i], &g = b.ids[j];
+        if (separated(a, g, {x_[g[0]], x_[g[1]], x_[g[2]]}) || separated(b, f, {x_[f[0]], x_[f[1]], x_[f[2]]})) continue;
+        const bool f_first = a.faces[i] < b.faces[j];
+        if (mesh_faces_intersect(x_, f_first ? f : g, f_first ? g : f)) return true;
+      }
+    return false;
+  }
+
+  const std::vector<glm::dvec3>& x_;
+  const std::vector<TriangleIds>& faces_;
+  int threads_;
+  Bvh flip_tree_, other_tree_;            // items numbered in leaf order: slots
+  std::vector<std::uint32_t> flip_ids_;   // per flip slot: the flip
+  std::vector<std::uint32_t> other_ids_;  // per other slot: the face (of the faces not flipped)
+  std::vector<FlipSlot> flips_;
+  std::vector<OtherSlot> others_;
+};
 
 }  // namespace
 
@@ -222,7 +307,8 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
   // flip moves surface inside its quad when the quad is not flat, which can cut through a nearby
   // sheet of S. One pass of the new faces against all of S finds that; the later of two flips
   // whose faces meet, and a flip whose faces meet any other face, is undone, and the faces it
-  // restores are checked in turn (they were S's, so they can meet only faces of flips still made).
+  // restores are checked in turn against the flips still made (they were S's, so they can meet
+  // only those; a tree over all of S for them cost the wall 30 ms or more per late pass).
   // Checking each candidate's quad before its flip tested ~60 faces against both new faces for
   // each of ~30K candidates and refused none on the bunny: a quarter of its refinement time.
   struct Made {
@@ -254,44 +340,31 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
   const std::vector<glm::dvec3> x = double_positions(s);
   std::vector<TriangleIds> faces = face_triangles(s);
   std::vector<char> flipped(faces.size(), 0);
+  std::vector<std::array<std::uint32_t, 2>> flip_faces;
   std::vector<std::array<std::uint32_t, 4>> quads;  // new faces (c, a, d), (d, b, c): c, a, d, b
   for (const Made& m : made) {
     flipped[m.faces[0]] = flipped[m.faces[1]] = 1;
+    flip_faces.push_back({m.faces[0], m.faces[1]});
     const TriangleIds &n0 = faces[m.faces[0]], &n1 = faces[m.faces[1]];
     quads.push_back({n0[0], n0[1], n0[2], n1[1]});
   }
-  const FlipPrisms prisms(x, std::move(quads), owner, o.threads);
-  std::vector<std::uint32_t> check;
+  const FlipCheck check(x, faces, flip_faces, quads, flipped, o.threads);
+  std::vector<std::int32_t> undo = check.first_round();
   std::size_t undone = 0;
-  // Over the faces as they are after the first undos, built only when there are any. A face
-  // restored by a later undo keeps its flipped box here, so only pairs of two restored faces
-  // could be missed, and those were both S's: they cannot meet.
-  Bvh all;
-  for (bool first = true; first || !check.empty(); first = false) {
-    std::set<std::int32_t> undo;
-    if (!first && all.nodes.empty()) {
-      BvhOptions tree_options;
-      tree_options.threads = o.threads;
-      tree_options.leaf_size = kFlipTreeLeaf;
-      all = build_bvh(triangle_boxes(x, faces, o.threads), tree_options);
-    }
-    const auto meeting = first ? meeting_marked_faces(x, faces, flipped, prisms, o.threads)
-                               : meeting_faces(x, faces, check, all, o.threads);
-    for (const auto& [f, g] : meeting) {
-      // A flip's faces meeting S's: that flip goes; two flips' faces meeting: the later one.
-      if (const std::int32_t k = std::max(owner[f], owner[g]); k >= 0) undo.insert(k);
-    }
-    check.clear();
+  std::vector<std::uint32_t> restored;
+  while (!undo.empty()) {
+    restored.clear();
     for (std::int32_t k : undo) {
       for (int i = 0; i < 2; ++i) {
         const std::uint32_t f = made[std::size_t(k)].faces[i];
         s.faces[f] = made[std::size_t(k)].old[i];
         faces[f] = {s.faces[f].x, s.faces[f].y, s.faces[f].z};
         owner[f] = -1;
-        check.push_back(f);
+        restored.push_back(f);
       }
       ++undone;
     }
+    undo = check.meeting_restored(restored, owner);
   }
   if (undone < made.size()) rebuild_after_flips(s);  // all undone: S is as it was, adjacency too
   return made.size() - undone;

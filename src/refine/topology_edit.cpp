@@ -134,6 +134,10 @@ FractureSurface split_preview(const FractureSurface& s, const std::vector<SplitR
 }
 
 bool flip_candidates(const FractureSurface& s, std::uint32_t edge, glm::uvec2& opposite, glm::uvec2& faces) {
+  return flip_quad(s, edge, opposite, faces) && find_edge(s, opposite.x, opposite.y) == kNoEdge;
+}
+
+bool flip_quad(const FractureSurface& s, std::uint32_t edge, glm::uvec2& opposite, glm::uvec2& faces) {
   if (s.edge_special[edge] != kEdgeRegular) return false;
   std::uint32_t f1 = s.ef_faces[s.ef_offsets[edge]], f2 = s.ef_faces[s.ef_offsets[edge] + 1];
   if (s.face_pieces[f1] != s.face_pieces[f2]) return false;
@@ -153,7 +157,7 @@ bool flip_candidates(const FractureSurface& s, std::uint32_t edge, glm::uvec2& o
   if (!rotate_to(f2, e.y, b) || b.y != e.x) return false;
   opposite = {a.z, b.z};
   faces = {f1, f2};
-  return find_edge(s, a.z, b.z) == kNoEdge && a.z != b.z;
+  return a.z != b.z;
 }
 
 bool flip_edge(FractureSurface& s, std::uint32_t edge) {

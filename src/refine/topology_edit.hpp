@@ -70,4 +70,8 @@ bool flip_edge(FractureSurface& s, std::uint32_t edge);
 /// faces; false when the edge cannot be flipped (see flip_edge).
 bool flip_candidates(const FractureSurface& s, std::uint32_t edge, glm::uvec2& opposite, glm::uvec2& faces);
 
+/// flip_candidates without its last test, that the edge c–d does not exist yet (an edge-table
+/// search, the costliest part: callers with tests of their own run it last).
+bool flip_quad(const FractureSurface& s, std::uint32_t edge, glm::uvec2& opposite, glm::uvec2& faces);
+
 }  // namespace fracref
