@@ -3,6 +3,8 @@
 // that are either complete or untouched.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "cube_scene.hpp"
 
 #include <iostream>
@@ -41,6 +43,10 @@ TEST(CliRefine, SmallSceneRunsOnTheCpuBackendWithoutVulkan) {
   auto r = run("refine " + s.string() + " -o " + out.string() + " --backend cpu --stop-after refine",
                "VK_ICD_FILENAMES=/nonexistent VK_DRIVER_FILES=/nonexistent");
   ASSERT_EQ(r.code, 0) << r.err;
+  // Piped: no progress, nothing but the one closing line (no stray diagnostics).
+  EXPECT_EQ(r.err.rfind("fracref: ", 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(r.out, "");
   for (const char* f : {"report.json", "fracture_surface.ply", "coarse_surface.ply", "exterior.ply", "preview.png"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
   std::string report = slurp(out / "report.json");

@@ -1,4 +1,3 @@
-#include <cstdio>
 #include "pipeline/job.hpp"
 
 #include <chrono>
@@ -77,7 +76,6 @@ struct Field {
 };
 
 Field build_field(const Scene& scene, const ExteriorSurface& b, const CoarseModel& model, ComputeBackend& backend) {
-  const auto tf=Clock::now();
   const double diag = b.diagonal();
   const glm::dvec3 pad(scene.field.padding * diag);
   Field f;
@@ -87,20 +85,15 @@ Field build_field(const Scene& scene, const ExteriorSurface& b, const CoarseMode
     FieldSpec material = material_from_scene(scene.field, scene.file, b.bbox_min, b.bbox_max);
     f.zeta = sample_strength(material, b.bbox_min - pad, b.bbox_max + pad, scene.field.resolution);
   }
-  fprintf(stderr,"T zeta %.4f\n",seconds_since(tf));
   std::vector<glm::dvec3> pos;
   for (const glm::vec4& p : model.surface.positions) pos.push_back(glm::dvec3(glm::vec3(p)));
   std::vector<std::array<std::uint32_t, 3>> tris;
   for (const glm::uvec4& t : model.surface.faces) tris.push_back({t.x, t.y, t.z});
   Grid3 psi = modified_field(f.zeta, distance_grid(f.zeta, pos, tris), scene.weights, diag);
-  fprintf(stderr,"T dist %.4f\n",seconds_since(tf));
   PyramidOptions po;
   po.levels = scene.pyramid.levels;
   po.sigma = float(scene.pyramid.sigma);
-  auto pyr=backend.build_pyramid(psi, po);
-  fprintf(stderr,"T pyr %.4f\n",seconds_since(tf));
-  f.sampled = precompute_field_gradient(pyr);
-  fprintf(stderr,"T grad %.4f\n",seconds_since(tf));
+  f.sampled = precompute_field_gradient(backend.build_pyramid(psi, po));
   return f;
 }
 
@@ -133,17 +126,14 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   progress("load", 0.0, scene.exterior.filename().string());
   MeshSoup exterior_mesh = read_mesh(scene.exterior);
   ExteriorSurface b = make_exterior(exterior_mesh, scene.exterior.string());
-  fprintf(stderr,"T exterior %.4f\n",seconds_since(t0));
   CoarseModel model = load_coarse(scene);
   CoarseAnimation animation = load_animation(scene, model);
-  fprintf(stderr,"T coarse %.4f\n",seconds_since(t0));
   report.coarse(model, animation);
   write_surface_ply(out / "coarse_surface.ply", model.surface, nullptr);
   if (o.stop_after == Stage::preprocess) {
     report.seconds("setup", seconds_since(t0));
     return report.finish(out, seconds_since(t0), [&] { return preview_surface(model.surface, exterior_mesh); });
   }
-  fprintf(stderr,"T written %.4f\n",seconds_since(t0));
   progress("field", 0.0, "strength field and pyramid");
   Field field = build_field(scene, b, model, backend);
   report.seconds("setup", seconds_since(t0));
