@@ -145,6 +145,7 @@ class SplitBatch {
   // Edits prepared by edge_edit, their first hits on S found side by side on `threads` threads:
   // the exact tests against S are most of a chord pass.
   void find_hits(std::vector<EdgeEdit*>& edits, int threads) {
+    if (edits.empty()) return;  // no guard to build (the last pass mostly finds no chord)
     const FaceGuard& g = guard();
     parallel_chunks(edits.size(), chunk_count(edits.size(), 8), threads, [&](std::size_t, std::size_t begin, std::size_t end) {
       for (std::size_t k = begin; k < end; ++k) edits[k]->hit = g.first_snapshot_hit(edits[k]->faces, edits[k]->replaced, edits[k]->reach);
