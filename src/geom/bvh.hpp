@@ -129,8 +129,9 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> self_overlapping_pairs(cons
 /// inside). Method: parity of the crossings of a segment from the query to a point far outside
 /// the mesh's box, each crossing classified with the exact orient3d. A segment that touches an
 /// edge, a vertex or lies in a face's plane across the face is discarded and the next of a fixed
-/// list of directions tried; if all of them are degenerate (practically never), the generalized
-/// winding number (sum of solid angles, rounded) decides. Exact for a closed (watertight,
+/// list of directions tried (shortest way out of the mesh's box first: the segment meets fewer of
+/// the tree's boxes); if all of them are degenerate (practically never), the generalized winding
+/// number (sum of solid angles, rounded) decides. Exact for a closed (watertight,
 /// consistently connected) mesh whenever a non-degenerate direction exists.
 /// \pre the mesh is closed; otherwise the answer is that of some ray's parity.
 bool point_in_mesh(const Bvh& bvh, const glm::dvec3& query);

@@ -1,5 +1,8 @@
 // point_in_mesh and winding_number of bvh.hpp.
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "geom/bvh.hpp"
@@ -20,17 +23,30 @@ constexpr double kDirections[8][3] = {
 
 enum class Crossing { none, proper, degenerate };
 
-// Slab test against the box inflated by `margin`, far beyond the rounding of the test itself,
-// so no box the exact segment touches is culled.
-bool segment_hits_box(const dvec3& q, const dvec3& d, const Aabb& box, double margin) {
+// The segment q + t d, t in [0, 1], with 1 / d per axis (0 where d is 0) taken once per ray.
+struct Segment {
+  dvec3 q, d, inv;
+};
+
+Segment segment(const dvec3& q, const dvec3& d) {
+  Segment s{q, d, dvec3(0.0)};
+  for (int a = 0; a < 3; ++a)
+    if (d[a] != 0.0) s.inv[a] = 1.0 / d[a];
+  return s;
+}
+
+// Slab test against the box inflated by `margin`, far beyond the rounding of the test itself
+// (a product with 1 / d is within an ulp or two of the quotient), so no box the exact segment
+// touches is culled.
+bool segment_hits_box(const Segment& s, const Aabb& box, double margin) {
   double t0 = 0.0, t1 = 1.0;
   for (int a = 0; a < 3; ++a) {
     const double lo = box.lo[a] - margin, hi = box.hi[a] + margin;
-    if (d[a] == 0.0) {
-      if (q[a] < lo || q[a] > hi) return false;
+    if (s.d[a] == 0.0) {
+      if (s.q[a] < lo || s.q[a] > hi) return false;
       continue;
     }
-    double ta = (lo - q[a]) / d[a], tb = (hi - q[a]) / d[a];
+    double ta = (lo - s.q[a]) * s.inv[a], tb = (hi - s.q[a]) * s.inv[a];
     if (ta > tb) std::swap(ta, tb);
     t0 = std::max(t0, ta);
     t1 = std::min(t1, tb);
@@ -57,13 +73,13 @@ Triangle3 corners(const Bvh& bvh, std::uint32_t t) {
 // Crossing parity along [q, r]: 1 odd, 0 even, -1 when some crossing is degenerate.
 // Sets `on_surface` when q lies on a face.
 int parity(const Bvh& bvh, const dvec3& q, const dvec3& r, double margin, bool& on_surface) {
-  const dvec3 d = r - q;
+  const Segment seg = segment(q, r - q);
   int count = 0;
   std::vector<std::uint32_t> stack{0};
   while (!stack.empty()) {
     const BvhNode& node = bvh.nodes[stack.back()];
     stack.pop_back();
-    if (!segment_hits_box(q, d, node.box, margin)) continue;
+    if (!segment_hits_box(seg, node.box, margin)) continue;
     if (node.count == 0) {
       stack.push_back(node.first + 1);
       stack.push_back(node.first);
@@ -83,6 +99,16 @@ int parity(const Bvh& bvh, const dvec3& q, const dvec3& r, double margin, bool& 
   return count & 1;
 }
 
+// How far from q along d (a unit direction) the segment leaves the box holding q.
+double exit_distance(const Aabb& box, const dvec3& q, const double* d) {
+  double t = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] > 0.0) t = std::min(t, (box.hi[a] - q[a]) / d[a]);
+    if (d[a] < 0.0) t = std::min(t, (box.lo[a] - q[a]) / d[a]);
+  }
+  return t;
+}
+
 }  // namespace
 
 bool point_in_mesh(const Bvh& bvh, const dvec3& query) {
@@ -91,7 +117,13 @@ bool point_in_mesh(const Bvh& bvh, const dvec3& query) {
   if (!root.overlaps(Aabb{query, query})) return false;
   const double scale = glm::length(root.hi - root.lo) + glm::length(query - 0.5 * (root.lo + root.hi));
   const double margin = 1e-9 * scale + 1e-300;
-  for (const auto& dir : kDirections) {
+  // Shortest way out of the box first: the segment meets fewer boxes of the tree on its way (a
+  // closed mesh gives every non-degenerate direction the same parity, so the order is free).
+  std::array<std::pair<double, int>, 8> order;
+  for (int k = 0; k < 8; ++k) order[k] = {exit_distance(root, query, kDirections[k]), k};
+  std::sort(order.begin(), order.end());
+  for (const auto& [exit, k] : order) {
+    const auto& dir = kDirections[k];
     // Long enough that r lies outside the (inflated) root box, hence on no face.
     const dvec3 r = query + (2.0 * scale + 1.0) * dvec3(dir[0], dir[1], dir[2]);
     bool on_surface = false;
