@@ -70,10 +70,16 @@ Aabb FaceGuard::box_of(const TriangleIds& t) const {
   return box;
 }
 
-std::vector<Aabb> FaceGuard::boxes_of(const std::vector<TriangleIds>& faces) const {
-  std::vector<Aabb> boxes;
-  for (const TriangleIds& t : faces) boxes.push_back(box_of(t));
-  return boxes;
+FaceGuard::NewShapes FaceGuard::shapes_of(const std::vector<TriangleIds>& faces) const {
+  NewShapes out;
+  for (const TriangleIds& t : faces) {
+    out.boxes.push_back(box_of(t));
+    const glm::dvec3 a = x_[t[0]], b = x_[t[1]], c = x_[t[2]];
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    out.prisms.emplace_back();
+    if (glm::length(n) > 0.0) out.prisms.back().emplace(std::array<glm::dvec3, 4>{a, b, c, c}, n);
+  }
+  return out;
 }
 
 // Every point of the new faces is within `reach` of a replaced face F, so a face g that the
@@ -99,15 +105,23 @@ bool FaceGuard::beyond(const Slabs& slabs, const TriangleIds& g) const {
 // The near faces come from the box of all the new faces together, which on a long rim chord
 // holds a thousand faces of S: each new face's own box rules out most of them before the exact
 // test (faces whose boxes miss cannot meet, not even at a shared corner), and so do the slabs.
-bool FaceGuard::meets(const std::vector<TriangleIds>& faces, const std::vector<Aabb>& boxes, std::uint32_t g,
+bool FaceGuard::meets(const std::vector<TriangleIds>& faces, const NewShapes& shapes, std::uint32_t g,
                       const Slabs& near) const {
-  const Aabb other = box_of(faces_[g]);
+  const TriangleIds& other = faces_[g];
+  const Aabb box = box_of(other);
   bool tested = near.empty();
   for (std::size_t k = 0; k < faces.size(); ++k) {
-    if (!boxes[k].overlaps(other)) continue;
-    if (!tested && beyond(near, faces_[g])) return false;
+    if (!shapes.boxes[k].overlaps(box)) continue;
+    if (!tested && beyond(near, other)) return false;
     tested = true;
-    if (mesh_faces_intersect(x_, faces[k], faces_[g])) return true;
+    if (const auto& prism = shapes.prisms[k]) {
+      std::array<int, 3> shared{-1, -1, -1};
+      for (int i = 0; i < 3; ++i)
+        for (int c = 0; c < 3; ++c)
+          if (other[i] == faces[k][c]) shared[i] = c;
+      if (prism->separates({x_[other[0]], x_[other[1]], x_[other[2]]}, shared)) continue;
+    }
+    if (mesh_faces_intersect(x_, faces[k], other)) return true;
   }
   return false;
 }
@@ -132,20 +146,20 @@ std::vector<std::uint32_t> FaceGuard::snapshot_near(const std::vector<TriangleId
 
 bool FaceGuard::meets_snapshot(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced,
                                const Slabs& near) const {
-  const std::vector<Aabb> boxes = boxes_of(faces);
+  const NewShapes shapes = shapes_of(faces);
   for (std::uint32_t g : snapshot_near(faces, replaced)) {
     if (gone_[g]) continue;
-    if (meets(faces, boxes, g, near)) return true;
+    if (meets(faces, shapes, g, near)) return true;
   }
   return false;
 }
 
 std::uint32_t FaceGuard::first_snapshot_hit(const std::vector<TriangleIds>& faces,
                                             const std::vector<std::uint32_t>& replaced, double reach) const {
-  const std::vector<Aabb> boxes = boxes_of(faces);
+  const NewShapes shapes = shapes_of(faces);
   const Slabs near = slabs(replaced, reach);
   for (std::uint32_t g : snapshot_near(faces, replaced))
-    if (meets(faces, boxes, g, near)) return g;
+    if (meets(faces, shapes, g, near)) return g;
   return kNoHit;
 }
 
@@ -174,9 +188,9 @@ bool FaceGuard::clear_of_accepted(const std::vector<TriangleIds>& faces, const S
   }
   for (std::size_t k = runs_.empty() ? 0 : runs_.back().end; k < new_boxes_.size(); ++k)
     if (new_boxes_[k].overlaps(box)) hits.push_back(std::uint32_t(k));
-  const std::vector<Aabb> boxes = boxes_of(faces);
+  const NewShapes shapes = shapes_of(faces);
   for (std::uint32_t k : hits)
-    if (meets(faces, boxes, std::uint32_t(s_faces_ + k), near)) return false;
+    if (meets(faces, shapes, std::uint32_t(s_faces_ + k), near)) return false;
   return true;
 }
 

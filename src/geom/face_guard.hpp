@@ -3,6 +3,7 @@
 // edit replaces some faces by others, test that the new faces meet no other face.
 #include <cstdint>
 #include <initializer_list>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -67,15 +68,21 @@ class FaceGuard {
 
  private:
   Aabb box_of(const TriangleIds& t) const;
-  std::vector<Aabb> boxes_of(const std::vector<TriangleIds>& faces) const;
+  // The new faces' boxes, and each one's own flat prism: a face of S that the prism separates
+  // from its new face meets it nowhere but at shared corners, and needs no exact test (most of
+  // the faces near a long rim chord: coplanar neighbours beyond its edges, or off its plane).
+  struct NewShapes {
+    std::vector<Aabb> boxes;
+    std::vector<std::optional<QuadPrism>> prisms;
+  };
+  NewShapes shapes_of(const std::vector<TriangleIds>& faces) const;
   // Per replaced face, the prism (grown by clear's `reach`) its new faces lie in; none: every
   // face is tested.
   using Slabs = std::vector<QuadPrism>;
   Slabs slabs(const std::vector<std::uint32_t>& replaced, double reach) const;
   bool beyond(const Slabs& slabs, const TriangleIds& g) const;
   // Whether one of `faces` (with their `boxes`) meets face g (exact).
-  bool meets(const std::vector<TriangleIds>& faces, const std::vector<Aabb>& boxes, std::uint32_t g,
-             const Slabs& near) const;
+  bool meets(const std::vector<TriangleIds>& faces, const NewShapes& shapes, std::uint32_t g, const Slabs& near) const;
   // The snapshot faces other than `replaced` whose boxes overlap the box of `faces`.
   std::vector<std::uint32_t> snapshot_near(const std::vector<TriangleIds>& faces,
                                            const std::vector<std::uint32_t>& replaced) const;
