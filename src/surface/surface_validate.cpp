@@ -314,13 +314,20 @@ std::string first_of(const FractureSurface& s, std::initializer_list<Check> chec
 
 // The invariants in validate()'s order; `derived` checks the derived arrays. Once every face's
 // indices are known to be in range, the search for duplicate faces (a sort of all of them) runs
-// beside the checks that follow it, and its message, if any, still comes first.
+// beside the checks that follow it, and once the derived arrays are known to be sound, the
+// components' pieces are checked beside the pieces' edges; the messages still come in order.
 std::string first_problem(const FractureSurface& s, Check derived) {
   if (std::string m = first_of(s, {check_primary_sizes, check_vertices, check_faces}); !m.empty()) return m;
   if (s.faces.size() < kParallelFaces)
     return first_of(s, {check_duplicate_faces, derived, check_component_pieces, check_piece_edges});
   auto duplicates = std::async(std::launch::async, [&s] { return check_duplicate_faces(s); });
-  std::string rest = first_of(s, {derived, check_component_pieces, check_piece_edges});
+  std::string rest = derived(s);
+  if (rest.empty()) {
+    auto components = std::async(std::launch::async, [&s] { return check_component_pieces(s); });
+    std::string edges = check_piece_edges(s);
+    rest = components.get();
+    if (rest.empty()) rest = std::move(edges);
+  }
   std::string m = duplicates.get();
   return m.empty() ? rest : m;
 }
