@@ -256,14 +256,6 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
   return false;
 }
 
-// The energy change of a split with the new vertex at `p` with field value psi_p:
-// Σ_new A ψ̄ − Σ_old A ψ̄ over the faces it replaces.
-struct SplitEffect {
-  double delta_energy = 0.0;
-  float offset = 0.0f;  // how far the sample would move off its element
-  float shortest = 0.0f;
-};
-
 // Same arithmetic as surface_energy (double from the float positions) so that an accepted split
 // cannot raise the energy the report measures by more than rounding.
 double face_energy(const glm::vec3& fa, const glm::vec3& fb, const glm::vec3& fc, double pa, double pb, double pc) {
@@ -272,36 +264,61 @@ double face_energy(const glm::vec3& fa, const glm::vec3& fb, const glm::vec3& fc
   return area * (pa + pb + pc) / 3.0;
 }
 
-SplitEffect split_effect(const FractureSurface& s, const std::vector<glm::vec4>& psi, const SplitRequest& r,
-                         const glm::vec3& p, float psi_p, const glm::vec3& d) {
-  SplitEffect fx;
+// The energy change of a split with the new vertex at `p` with field value psi_p:
+// Σ_new A ψ̄ − Σ_old A ψ̄ over the faces it replaces.
+double split_delta_energy(const FractureSurface& s, const std::vector<glm::vec4>& psi, const SplitRequest& r,
+                          const glm::vec3& p, float psi_p) {
   auto x = [&](std::uint32_t v) { return glm::vec3(s.positions[v]); };
   auto q = [&](std::uint32_t v) { return double(psi[v].x); };
   if (r.kind == SplitRequest::kFace) {
     glm::uvec4 f = s.faces[r.element];
-    fx.delta_energy = face_energy(x(f.x), x(f.y), p, q(f.x), q(f.y), psi_p) +
-                      face_energy(x(f.y), x(f.z), p, q(f.y), q(f.z), psi_p) +
-                      face_energy(x(f.z), x(f.x), p, q(f.z), q(f.x), psi_p) -
-                      face_energy(x(f.x), x(f.y), x(f.z), q(f.x), q(f.y), q(f.z));
-    glm::vec3 n = glm::cross(x(f.y) - x(f.x), x(f.z) - x(f.x));
-    float nl = glm::length(n);
-    fx.offset = nl > 0.0f ? std::abs(glm::dot(d, n / nl)) : 0.0f;
-    fx.shortest = std::min({glm::distance(x(f.x), x(f.y)), glm::distance(x(f.y), x(f.z)), glm::distance(x(f.z), x(f.x))});
-    return fx;
+    return face_energy(x(f.x), x(f.y), p, q(f.x), q(f.y), psi_p) + face_energy(x(f.y), x(f.z), p, q(f.y), q(f.z), psi_p) +
+           face_energy(x(f.z), x(f.x), p, q(f.z), q(f.x), psi_p) - face_energy(x(f.x), x(f.y), x(f.z), q(f.x), q(f.y), q(f.z));
   }
   glm::uvec2 e = s.edges[r.element];
+  double delta = 0.0;
   for (std::uint32_t k = s.ef_offsets[r.element]; k < s.ef_offsets[r.element + 1]; ++k) {
-    std::uint32_t fi = s.ef_faces[k];
-    glm::uvec4 f = s.faces[fi];
+    glm::uvec4 f = s.faces[s.ef_faces[k]];
     std::uint32_t z = f.x + f.y + f.z - e.x - e.y;  // the vertex opposite the edge
-    fx.delta_energy += face_energy(x(e.x), p, x(z), q(e.x), psi_p, q(z)) + face_energy(p, x(e.y), x(z), psi_p, q(e.y), q(z)) -
-                       face_energy(x(e.x), x(e.y), x(z), q(e.x), q(e.y), q(z));
+    delta += face_energy(x(e.x), p, x(z), q(e.x), psi_p, q(z)) + face_energy(p, x(e.y), x(z), psi_p, q(e.y), q(z)) -
+             face_energy(x(e.x), x(e.y), x(z), q(e.x), q(e.y), q(z));
   }
-  glm::vec3 axis = x(e.y) - x(e.x);
-  float len = glm::length(axis);
-  fx.shortest = len;
-  fx.offset = len > 0.0f ? glm::length(d - glm::dot(d, axis / len) * (axis / len)) : 0.0f;
-  return fx;
+  return delta;
+}
+
+// A sampled element's shortest edge, and the direction its offsets are measured against: a
+// face's unit normal (the offset is the motion across the face), an edge's unit axis (the motion
+// across the edge); zero for a degenerate element (no offset).
+struct ElementShape {
+  bool face = false;
+  glm::vec3 dir{0.0f};
+  float shortest = 0.0f;
+};
+
+ElementShape element_shape(const FractureSurface& s, const SplitRequest& r) {
+  auto x = [&](std::uint32_t v) { return glm::vec3(s.positions[v]); };
+  ElementShape out;
+  if (r.kind == SplitRequest::kFace) {
+    const glm::uvec4 f = s.faces[r.element];
+    const glm::vec3 n = glm::cross(x(f.y) - x(f.x), x(f.z) - x(f.x));
+    const float nl = glm::length(n);
+    out.face = true;
+    if (nl > 0.0f) out.dir = n / nl;
+    out.shortest = std::min({glm::distance(x(f.x), x(f.y)), glm::distance(x(f.y), x(f.z)), glm::distance(x(f.z), x(f.x))});
+    return out;
+  }
+  const glm::uvec2 e = s.edges[r.element];
+  const glm::vec3 axis = x(e.y) - x(e.x);
+  const float len = glm::length(axis);
+  out.shortest = len;
+  if (len > 0.0f) out.dir = axis / len;
+  return out;
+}
+
+// How far a motion d takes a point off the element (see ElementShape).
+float element_offset(const ElementShape& e, const glm::vec3& d) {
+  if (e.dir == glm::vec3(0.0f)) return 0.0f;
+  return e.face ? std::abs(glm::dot(d, e.dir)) : glm::length(d - glm::dot(d, e.dir) * e.dir);
 }
 
 // A sample whose flow step would take it too far from its element (paper 4.4: "if it moves too
@@ -408,18 +425,17 @@ void Refiner::fill_budget(const SampleSet& set, const std::vector<glm::vec4>& te
 Refiner::Verdict Refiner::judge_sample(const SplitRequest& r, const glm::vec3& p, const glm::vec4& tested,
                                        bool on_boundary, float threshold) const {
   Verdict v;
-  SplitEffect fx = split_effect(s_, samples_, r, p, tested.w, glm::vec3(0.0f));
-  const ElementMotion m = element_motion(r, glm::vec3(tested), fx.shortest);
-  fx = split_effect(s_, samples_, r, p, tested.w, m.sample - m.interpolated);
-  v.offset = fx.offset;
-  if (fx.offset <= threshold) return v;
+  const ElementShape shape = element_shape(s_, r);
+  const ElementMotion m = element_motion(r, glm::vec3(tested), shape.shortest);
+  v.offset = element_offset(shape, m.sample - m.interpolated);
+  if (v.offset <= threshold) return v;
   // The full step overshoots where the new faces' extra area outweighs the weaker material
   // reached, so the move is backtracked along the step until it lowers E.
   glm::vec3 d = m.sample;
   for (int halving = 0; halving < kInsertBacktracks; ++halving, d *= 0.5f) {
     glm::vec3 q = p + d;
     if (on_boundary) q = glm::vec3(b_.closest_point(glm::dvec3(q)));
-    if (split_effect(s_, samples_, r, q, sample_field(field_, q).x, d).delta_energy < 0.0) {
+    if (split_delta_energy(s_, samples_, r, q, sample_field(field_, q).x) < 0.0) {
       v.split = true;
       v.move = q - p;
       return v;
