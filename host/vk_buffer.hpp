@@ -1,7 +1,9 @@
 #pragma once
-// A Vulkan buffer in host-visible, host-coherent memory, mapped for its whole life: the CPU
-// writes inputs and reads results straight through data() (on lavapipe this is plain host
-// memory; on a GPU host-visible memory is good enough for the sizes fracref moves).
+// A Vulkan buffer in host-visible, host-coherent memory (host-cached where the device has it),
+// mapped for its whole life: the CPU writes inputs and reads results straight through data().
+// On lavapipe this is plain host memory; on a discrete GPU it is system memory the kernels reach
+// over the bus (on an H100: K1+K2 on 1M vertices in 16.5 ms against 151 ms on two CPU threads),
+// where device-local memory mapped through the BAR made every CPU read uncached (1566 ms).
 #include <cstddef>
 #include <cstdint>
 
