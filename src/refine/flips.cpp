@@ -246,9 +246,12 @@ class FlipCheck {
       Bvh& tree = t == 0 ? flip_tree_ : other_tree_;
       tree = build_bvh(picked, o);
       std::vector<std::uint32_t> order = number_items_in_leaf_order(tree);
-      if (t == 0) flip_ids_ = std::move(order);
-      else for (std::uint32_t& k : order) k = others[k];
-      if (t == 1) other_ids_ = std::move(order);
+      if (t == 0) {
+        flip_ids_ = std::move(order);
+      } else {
+        for (std::uint32_t& k : order) k = others[k];
+        other_ids_ = std::move(order);
+      }
     });
   }
 
