@@ -297,6 +297,45 @@ TEST(GeomCcd, LaterRoundsOnTheExaminedPairsMatchAFullSearch) {
   EXPECT_GE(rounds, 2);  // a round after the first found pairs
 }
 
+// The broad phase (boxes, then diagonal slabs) loses no pair: on a tangled step the search finds
+// exactly what the narrow phase finds over every vertex-triangle and edge-edge pair.
+TEST(GeomCcd, FindsWhatTestingEveryPairFinds) {
+  auto s = two_sheets({0, 0, 0.2}, {0, 0, -0.2}, 10);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> jitter(-0.12, 0.12);
+  for (std::size_t v = 0; v < s.x0.size(); ++v) s.x1[v] += dvec3(jitter(rng), jitter(rng), 3.0 * jitter(rng));
+  for (std::size_t v = 0; v < s.x0.size(); v += 4) s.x1[v] = s.x0[v];
+  std::vector<std::array<std::uint32_t, 2>> edges;
+  for (const auto& t : s.triangles)
+    for (int k = 0; k < 3; ++k) edges.push_back({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])});
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<CcdPair> expected;
+  const auto& x0 = s.x0;
+  const auto& x1 = s.x1;
+  for (std::uint32_t t = 0; t < s.triangles.size(); ++t) {
+    const auto& tri = s.triangles[t];
+    for (std::uint32_t v = 0; v < x0.size(); ++v)
+      if (v != tri[0] && v != tri[1] && v != tri[2] &&
+          fracref::ccd_vertex_triangle(x0[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], x1[v], x1[tri[0]], x1[tri[1]],
+                                       x1[tri[2]]))
+        expected.push_back({CcdKind::vertex_triangle, {v, tri[0], tri[1], tri[2]}, t});
+  }
+  for (std::size_t i = 0; i < edges.size(); ++i)
+    for (std::size_t j = i + 1; j < edges.size(); ++j) {
+      const auto &e = edges[i], &f = edges[j];
+      if (e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1]) continue;
+      if (fracref::ccd_edge_edge(x0[e[0]], x0[e[1]], x0[f[0]], x0[f[1]], x1[e[0]], x1[e[1]], x1[f[0]], x1[f[1]]))
+        expected.push_back({CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle});
+    }
+  std::sort(expected.begin(), expected.end());
+  std::size_t vertex_triangle = 0;
+  for (const CcdPair& p : expected) vertex_triangle += p.kind == CcdKind::vertex_triangle;
+  ASSERT_GT(vertex_triangle, 50u);
+  ASSERT_GT(expected.size() - vertex_triangle, 50u);
+  EXPECT_EQ(fracref::find_step_collisions(s.x0, s.x1, s.triangles), expected);
+}
+
 // Against a static mesh, resting moving-mesh elements and those without an active vertex are
 // left out, the rest found as without the options.
 TEST(GeomCcd, StaticPairsFollowTheActiveVertices) {

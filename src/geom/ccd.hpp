@@ -113,8 +113,8 @@ struct StepCcdOptions {
   /// find_step_collisions only: the mesh's unique edges (a < b), when the caller has them;
   /// null = derived from the triangles. \pre exactly the edges of `triangles`.
   const std::vector<std::array<std::uint32_t, 2>>* edges = nullptr;
-  /// find_step_collisions only: when set, receives (sorted) every pair the narrow phase took
-  /// past its distance filter, colliding or not: with the travels of this step no other pair
+  /// find_step_collisions only: when set, receives (sorted) every pair the broad phase and the
+  /// narrow phase's distance filter let through, colliding or not: with the travels of this step no other pair
   /// can collide, nor can it after any vertices are sent back to x0.
   std::vector<CcdPair>* examined = nullptr;
   /// find_step_collisions only: when set, the broad phase and the distance filter are skipped
@@ -125,7 +125,9 @@ struct StepCcdOptions {
 
 /// All colliding vertex-triangle and edge-edge pairs of a mesh against itself over the step
 /// x0 -> x1, skipping pairs that share a vertex. Broad phase: AABB trees over the swept boxes
-/// of triangles and edges (enlarged by min_distance). Sorted (kind, vertices, triangle).
+/// of triangles and edges (enlarged by min_distance), then the swept diagonal slabs of each pair
+/// (slabs.hpp; apart only when the pair stays more than 4 (tolerance + min_distance) apart).
+/// Sorted (kind, vertices, triangle).
 /// \throw InputError when x0 and x1 differ in size, a coordinate is not finite, or a triangle
 ///        has an index out of range (the message names it).
 std::vector<CcdPair> find_step_collisions(const std::vector<glm::dvec3>& x0, const std::vector<glm::dvec3>& x1,

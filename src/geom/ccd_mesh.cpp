@@ -7,6 +7,7 @@
 #include "geom/bvh.hpp"
 #include "geom/ccd.hpp"
 #include "geom/bvh_traverse.hpp"
+#include "geom/slabs.hpp"
 #include "util/error.hpp"
 #include "util/parallel.hpp"
 
@@ -163,6 +164,7 @@ struct StepTrees {
   const std::vector<dvec3>& x0;
   const std::vector<dvec3>& x1;
   const std::vector<double>& travel;  // |x1 - x0| per vertex
+  const std::vector<Slabs>& slabs;    // per vertex, of its path (vertex_slabs)
   double grow;
   int threads;
 
@@ -196,6 +198,47 @@ struct StepTrees {
     parallel_chunks(2, 2, threads, [&](std::size_t k, std::size_t, std::size_t) { k == 0 ? a(1) : b(1); });
   }
 };
+
+// A tree's items renumbered in leaf order (slots), with each slot's element id and the slabs of
+// its vertices' paths: the broad phase's last filter reads them front to back.
+struct Slots {
+  std::vector<std::uint32_t> ids;
+  std::vector<Slabs> slabs;
+};
+
+// `element(id)` gives an element's vertices; `subset` maps tree items to ids (null: identity).
+template <class Element>
+Slots number_slots(Bvh& tree, const std::vector<std::uint32_t>* subset, const std::vector<Slabs>& vertex_slabs,
+                   const Element& element) {
+  Slots s;
+  s.ids = number_items_in_leaf_order(tree);
+  s.slabs.resize(s.ids.size());
+  for (std::size_t k = 0; k < s.ids.size(); ++k) {
+    if (subset) s.ids[k] = (*subset)[s.ids[k]];
+    for (std::uint32_t v : element(s.ids[k])) merge(s.slabs[k], vertex_slabs[v]);
+  }
+  return s;
+}
+
+// Each vertex's path over the step as Slabs, padded so that primitives whose slabs are apart stay
+// more than 4 (tolerance + min_distance) apart. The narrow phase reports no pair beyond
+// sqrt(3) (tolerance + min_distance + its rounding bound, 162 u per unit of the largest
+// coordinate; 256 u here), so the slabs only drop pairs it would clear, with a margin for the
+// pairs it gives up on (those rest within a few tolerances).
+std::vector<Slabs> vertex_slabs(const std::vector<dvec3>& x0, const std::vector<dvec3>& x1, const CcdOptions& ccd,
+                                int threads) {
+  double largest = 0.0;
+  for (std::size_t v = 0; v < x0.size(); ++v) {
+    const dvec3 m = glm::max(glm::abs(x0[v]), glm::abs(x1[v]));
+    largest = std::max(largest, std::max(m.x, std::max(m.y, m.z)));
+  }
+  const double pad = 2.0 * (std::max(0.0, ccd.min_distance) + ccd.tolerance) + 0x1p-45 * largest;
+  std::vector<Slabs> out(x0.size());
+  parallel_chunks(x0.size(), chunk_count(x0.size(), 8192), threads, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v) out[v] = segment_slabs(x0[v], x1[v], pad);
+  });
+  return out;
+}
 
 // When few elements take part (a later round, or a step that moves a few new vertices), a tree
 // over all the others would cost more than the tests: instead each of the many boxes is
@@ -284,19 +327,40 @@ std::vector<Examined> vertex_triangle_pairs(const StepTrees& trees, const Tris& 
     out.insert(out.end(), rest.begin(), rest.end());
     return out;
   }
+  auto vertex = [](std::uint32_t v) { return std::array<std::uint32_t, 1>{v}; };
+  auto triangle = [&](std::uint32_t t) { return tris[t]; };
   Bvh tri_tree, moving_tree;
-  trees.side_by_side([&](int with) { tri_tree = trees.build(tris, nullptr, trees.grow, with); },
-                     [&](int with) { moving_tree = trees.vertices(m.moving_vertices, with); });
-  auto out = collect_overlaps<Examined>(
-      moving_tree, tri_tree, false, trees.threads,
-      [&](std::uint32_t k, std::uint32_t t, std::vector<Examined>& found) { test(m.moving_vertices[k], t, found); });
+  Slots tri_slots, moving_slots;
+  trees.side_by_side(
+      [&](int with) {
+        tri_tree = trees.build(tris, nullptr, trees.grow, with);
+        tri_slots = number_slots(tri_tree, nullptr, trees.slabs, triangle);
+      },
+      [&](int with) {
+        moving_tree = trees.vertices(m.moving_vertices, with);
+        moving_slots = number_slots(moving_tree, &m.moving_vertices, trees.slabs, vertex);
+      });
+  auto out = collect_overlaps<Examined>(moving_tree, tri_tree, false, trees.threads,
+                                        [&](std::uint32_t k, std::uint32_t t, std::vector<Examined>& found) {
+                                          if (slabs_apart(moving_slots.slabs[k], tri_slots.slabs[t])) return;
+                                          test(moving_slots.ids[k], tri_slots.ids[t], found);
+                                        });
   if (m.resting_vertices.empty() || m.moving_triangles.empty()) return out;
   Bvh resting_tree, moving_tri_tree;
-  trees.side_by_side([&](int with) { resting_tree = trees.vertices(m.resting_vertices, with); },
-                     [&](int with) { moving_tri_tree = trees.build(tris, &m.moving_triangles, trees.grow, with); });
+  Slots resting_slots, moving_tri_slots;
+  trees.side_by_side(
+      [&](int with) {
+        resting_tree = trees.vertices(m.resting_vertices, with);
+        resting_slots = number_slots(resting_tree, &m.resting_vertices, trees.slabs, vertex);
+      },
+      [&](int with) {
+        moving_tri_tree = trees.build(tris, &m.moving_triangles, trees.grow, with);
+        moving_tri_slots = number_slots(moving_tri_tree, &m.moving_triangles, trees.slabs, triangle);
+      });
   auto rest = collect_overlaps<Examined>(resting_tree, moving_tri_tree, false, trees.threads,
                                          [&](std::uint32_t k, std::uint32_t t, std::vector<Examined>& found) {
-                                           test(m.resting_vertices[k], m.moving_triangles[t], found);
+                                           if (slabs_apart(resting_slots.slabs[k], moving_tri_slots.slabs[t])) return;
+                                           test(resting_slots.ids[k], moving_tri_slots.ids[t], found);
                                          });
   out.insert(out.end(), rest.begin(), rest.end());
   return out;
@@ -329,22 +393,31 @@ std::vector<Examined> edge_edge_pairs(const StepTrees& trees, const std::vector<
           test(i, j, found);
         });
   }
+  auto edge = [&](std::uint32_t e) { return edges[e]; };
   Bvh moving, resting;
+  Slots moving_slots, resting_slots;
   const bool rests = !m.resting_edges.empty() && !m.moving_edges.empty();
-  trees.side_by_side([&](int with) { moving = trees.build(edges, &m.moving_edges, 0.5 * trees.grow, with); },
-                     [&](int with) {
-                       if (rests) resting = trees.build(edges, &m.resting_edges, 0.5 * trees.grow, with);
-                     });
+  trees.side_by_side(
+      [&](int with) {
+        moving = trees.build(edges, &m.moving_edges, 0.5 * trees.grow, with);
+        moving_slots = number_slots(moving, &m.moving_edges, trees.slabs, edge);
+      },
+      [&](int with) {
+        if (!rests) return;
+        resting = trees.build(edges, &m.resting_edges, 0.5 * trees.grow, with);
+        resting_slots = number_slots(resting, &m.resting_edges, trees.slabs, edge);
+      });
   auto out = collect_overlaps<Examined>(moving, moving, true, trees.threads,
                                         [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
-                                          test(m.moving_edges[i], m.moving_edges[j], found);
+                                          if (slabs_apart(moving_slots.slabs[i], moving_slots.slabs[j])) return;
+                                          test(moving_slots.ids[i], moving_slots.ids[j], found);
                                         });
   if (!rests) return out;
-  auto rest =
-      collect_overlaps<Examined>(moving, resting, false, trees.threads,
-                                 [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
-                                   test(m.moving_edges[i], m.resting_edges[j], found);
-                                 });
+  auto rest = collect_overlaps<Examined>(moving, resting, false, trees.threads,
+                                         [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
+                                           if (slabs_apart(moving_slots.slabs[i], resting_slots.slabs[j])) return;
+                                           test(moving_slots.ids[i], resting_slots.ids[j], found);
+                                         });
   out.insert(out.end(), rest.begin(), rest.end());
   return out;
 }
@@ -385,7 +458,9 @@ std::vector<CcdPair> find_step_collisions(const std::vector<dvec3>& x0, const st
   check_triangles(triangles, x0.size(), "mesh");
   check_flags(options.active_vertices, x0.size(), "active-vertex");
   const std::vector<double> travel = travels(x0, x1, options.threads);
-  StepTrees trees{x0, x1, travel, std::max(0.0, options.ccd.min_distance), options.threads};
+  const std::vector<Slabs> slabs =
+      options.candidates ? std::vector<Slabs>() : vertex_slabs(x0, x1, options.ccd, options.threads);
+  StepTrees trees{x0, x1, travel, slabs, std::max(0.0, options.ccd.min_distance), options.threads};
   const bool record = options.examined != nullptr;
   std::vector<Examined> found;
   if (options.candidates) {
