@@ -36,6 +36,14 @@ TEST(GeomSlabs, MergedSlabsHoldBothAndTouchingSlabsAreNotApart) {
   // Touching at one point (0, 1, 1): not apart.
   EXPECT_FALSE(slabs_apart(segment_slabs({0, 1, 1}, {1, 2, 2}, 0.0), segment_slabs({0, 1, 1}, {-1, 0, 0}, 0.0)));
   EXPECT_TRUE(slabs_apart(both, segment_slabs({2, 2, 2}, {3, 3, 3}, 0.0)));
+  // A triangle's slabs hold its centroid; a point just off its hypotenuse, inside its box, is apart.
+  const dvec3 tri[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const Slabs t = fracref::point_slabs(tri, 3, 0.0);
+  EXPECT_FALSE(slabs_apart(t, segment_slabs({1.0 / 3, 1.0 / 3, 0}, {1.0 / 3, 1.0 / 3, 0}, 0.0)));
+  EXPECT_TRUE(slabs_apart(t, segment_slabs({0.51, 0.51, 0}, {0.51, 0.51, 0}, 0.0)));
+  // 0.02 / sqrt 2 off it: apart with both padded by 0.007, not with both padded by 0.0071.
+  EXPECT_TRUE(slabs_apart(fracref::point_slabs(tri, 3, 0.007), segment_slabs({0.51, 0.51, 0}, {0.51, 0.51, 0}, 0.007)));
+  EXPECT_FALSE(slabs_apart(fracref::point_slabs(tri, 3, 0.0071), segment_slabs({0.51, 0.51, 0}, {0.51, 0.51, 0}, 0.0071)));
 }
 
 // Points closer than twice the pad are never apart, wherever they lie (coordinates up to 1e6
@@ -53,7 +61,7 @@ TEST(GeomSlabs, PointsWithinTwiceThePadAreNeverApart) {
     const dvec3 q = p + d * (2.0 * pad * (1.0 - 1e-9));
     ASSERT_FALSE(slabs_apart(segment_slabs(p, p, pad), segment_slabs(q, q, pad))) << k;
     // Far beyond the pad along a diagonal: apart when the floats can tell (always at this scale).
-    const dvec3 far = p + dvec3(1.0, 1.0, 0.0) * (4.0 * pad + 1e-6 * scale);
+    const dvec3 far = p + dvec3(1.0, 1.0, 0.0) * (4.0 * pad + 1e-5 * scale);
     apart += slabs_apart(segment_slabs(p, p, pad), segment_slabs(far, far, pad));
   }
   EXPECT_EQ(apart, 20000);

@@ -1,6 +1,7 @@
 // The mesh-level API of ccd.hpp: swept-box broad phase, then the exact-bounded narrow phase.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 
@@ -18,10 +19,11 @@ using glm::dvec3;
 using Tris = std::vector<std::array<std::uint32_t, 3>>;
 using Edge = std::array<std::uint32_t, 2>;
 
-// Leaves of 8 boxes: on the bunny's last flow step (172K triangles) the broad phase is most of
+// Leaves of 16 boxes: on the bunny's last flow step (172K triangles) the broad phase is most of
 // the cost, and halving the tree depth took a tenth off a call (leaves of 4: 297 ms median, 8:
-// 270, 16: 272).
-constexpr std::uint32_t kLeaf = 8;
+// 270, 16: 272). With the slabs' test after the boxes' (cheap, on slot data read in order), 16
+// took 1-5% off the wall's searches against 8 (three interleaved runs each).
+constexpr std::uint32_t kLeaf = 16;
 
 void check_positions(const std::vector<dvec3>& x, const char* what) {
   for (std::size_t v = 0; v < x.size(); ++v)
@@ -191,12 +193,6 @@ struct StepTrees {
     o.threads = with;
     return build_bvh(boxes, o);
   }
-  // Two builds side by side, each on one thread when there are two (a build's own two threads
-  // leave its serial parts, the sort's counts, the allocations, on one core).
-  template <class A, class B>
-  void side_by_side(const A& a, const B& b) const {
-    parallel_chunks(2, 2, threads, [&](std::size_t k, std::size_t, std::size_t) { k == 0 ? a(1) : b(1); });
-  }
 };
 
 // A tree's items renumbered in leaf order (slots), with each slot's element id and the slabs of
@@ -299,17 +295,110 @@ void test_edge_edge(const StepTrees& trees, const Edge& e, const Edge& f, const 
 
 constexpr std::size_t kSparseFactor = 16;  // "few": under 1/16 of the elements take part
 
-std::vector<Examined> vertex_triangle_pairs(const StepTrees& trees, const Tris& tris, const Motion& m,
-                                            const CcdOptions& ccd, bool record) {
-  const auto& x0 = trees.x0;
-  const auto& x1 = trees.x1;
-  auto test = [&](std::uint32_t v, std::uint32_t t, std::vector<Examined>& found) {
-    const auto& tri = tris[t];
-    if (tri[0] == v || tri[1] == v || tri[2] == v) return;
-    test_vertex_triangle(trees, v, tri, t, ccd, record, found);
+// A tree over some of the mesh's elements, its items numbered in leaf order.
+struct SlotTree {
+  Bvh tree;
+  Slots slots;
+};
+
+// The pairs of a's and b's elements whose boxes overlap and whose slabs are not apart (with
+// `self`, b is a and each unordered pair comes once): test(id in a, id in b, found).
+template <class Test>
+std::vector<Examined> slot_pairs(const SlotTree& a, const SlotTree& b, bool self, int threads, const Test& test) {
+  return collect_overlaps<Examined>(a.tree, b.tree, self, threads,
+                                    [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
+                                      if (!slabs_apart(a.slots.slabs[i], b.slots.slabs[j]))
+                                        test(a.slots.ids[i], b.slots.ids[j], found);
+                                    });
+}
+
+// The trees of a search, built before its traversals: each build on one thread (a build's own
+// two threads leave its serial parts, the sort's counts, the allocations, on one core), the
+// largest first, each onto the thread with less work so far. On the wall's steps the triangles'
+// tree alone is as large as the other vertex-triangle trees together. The trees do not depend
+// on the schedule.
+class TreeBuilds {
+ public:
+  void add(std::size_t size, std::function<void()> build) { builds_.push_back({size, std::move(build)}); }
+  void run(int threads) {
+    std::stable_sort(builds_.begin(), builds_.end(), [](const Build& a, const Build& b) { return a.size > b.size; });
+    const std::size_t lanes = threads >= 2 ? 2 : 1;
+    std::vector<std::vector<const Build*>> lane(lanes);
+    std::vector<std::size_t> load(lanes, 0);
+    for (const Build& b : builds_) {
+      const std::size_t l = std::min_element(load.begin(), load.end()) - load.begin();
+      lane[l].push_back(&b);
+      load[l] += b.size;
+    }
+    parallel_chunks(lanes, lanes, threads, [&](std::size_t l, std::size_t, std::size_t) {
+      for (const Build* b : lane[l]) b->build();
+    });
+  }
+
+ private:
+  struct Build {
+    std::size_t size;
+    std::function<void()> build;
   };
-  const std::size_t used = m.moving_vertices.size() + m.resting_vertices.size();
-  if (m.moving_vertices.size() * kSparseFactor < used) {
+  std::vector<Build> builds_;
+};
+
+// Plans the tree over elements (or the subset of them) grown by g.
+template <std::size_t N>
+void plan_tree(const StepTrees& trees, TreeBuilds& builds, SlotTree& out,
+               const std::vector<std::array<std::uint32_t, N>>& elements, const std::vector<std::uint32_t>* subset,
+               double g) {
+  builds.add(subset ? subset->size() : elements.size(), [&trees, &out, &elements, subset, g] {
+    out.tree = trees.build(elements, subset, g, 1);
+    out.slots = number_slots(out.tree, subset, trees.slabs, [&](std::uint32_t id) { return elements[id]; });
+  });
+}
+
+void plan_vertex_tree(const StepTrees& trees, TreeBuilds& builds, SlotTree& out, const std::vector<std::uint32_t>& ids) {
+  builds.add(ids.size(), [&trees, &out, &ids] {
+    out.tree = trees.vertices(ids, 1);
+    out.slots = number_slots(out.tree, &ids, trees.slabs, [](std::uint32_t v) { return std::array<std::uint32_t, 1>{v}; });
+  });
+}
+
+// The vertex-triangle search: moving vertices against all triangles, resting vertices against
+// the moving triangles; with few moving vertices, scans instead of trees.
+struct VertexTriangleSearch {
+  const StepTrees& trees;
+  const Tris& tris;
+  const Motion& m;
+  SlotTree triangles, moving_vertices, resting_vertices, moving_triangles;
+
+  bool sparse() const {
+    return m.moving_vertices.size() * kSparseFactor < m.moving_vertices.size() + m.resting_vertices.size();
+  }
+  bool with_resting() const { return !m.resting_vertices.empty() && !m.moving_triangles.empty(); }
+  void plan(TreeBuilds& builds) {
+    if (sparse()) return;
+    plan_tree(trees, builds, triangles, tris, nullptr, trees.grow);
+    plan_vertex_tree(trees, builds, moving_vertices, m.moving_vertices);
+    if (!with_resting()) return;
+    plan_vertex_tree(trees, builds, resting_vertices, m.resting_vertices);
+    plan_tree(trees, builds, moving_triangles, tris, &m.moving_triangles, trees.grow);
+  }
+  // \pre the planned trees are built.
+  std::vector<Examined> pairs(const CcdOptions& ccd, bool record) const {
+    auto test = [&](std::uint32_t v, std::uint32_t t, std::vector<Examined>& found) {
+      const auto& tri = tris[t];
+      if (tri[0] == v || tri[1] == v || tri[2] == v) return;
+      test_vertex_triangle(trees, v, tri, t, ccd, record, found);
+    };
+    if (sparse()) return scans(test);
+    auto out = slot_pairs(moving_vertices, triangles, false, trees.threads, test);
+    if (!with_resting()) return out;
+    auto rest = slot_pairs(resting_vertices, moving_triangles, false, trees.threads, test);
+    out.insert(out.end(), rest.begin(), rest.end());
+    return out;
+  }
+  template <class Test>
+  std::vector<Examined> scans(const Test& test) const {
+    const auto& x0 = trees.x0;
+    const auto& x1 = trees.x1;
     std::vector<Aabb> few(m.moving_vertices.size());
     for (std::size_t k = 0; k < few.size(); ++k) few[k] = swept_box(x0, x1, std::array<std::uint32_t, 1>{m.moving_vertices[k]}, 0.0);
     auto out = scan_against<Examined>(
@@ -327,57 +416,43 @@ std::vector<Examined> vertex_triangle_pairs(const StepTrees& trees, const Tris& 
     out.insert(out.end(), rest.begin(), rest.end());
     return out;
   }
-  auto vertex = [](std::uint32_t v) { return std::array<std::uint32_t, 1>{v}; };
-  auto triangle = [&](std::uint32_t t) { return tris[t]; };
-  Bvh tri_tree, moving_tree;
-  Slots tri_slots, moving_slots;
-  trees.side_by_side(
-      [&](int with) {
-        tri_tree = trees.build(tris, nullptr, trees.grow, with);
-        tri_slots = number_slots(tri_tree, nullptr, trees.slabs, triangle);
-      },
-      [&](int with) {
-        moving_tree = trees.vertices(m.moving_vertices, with);
-        moving_slots = number_slots(moving_tree, &m.moving_vertices, trees.slabs, vertex);
-      });
-  auto out = collect_overlaps<Examined>(moving_tree, tri_tree, false, trees.threads,
-                                        [&](std::uint32_t k, std::uint32_t t, std::vector<Examined>& found) {
-                                          if (slabs_apart(moving_slots.slabs[k], tri_slots.slabs[t])) return;
-                                          test(moving_slots.ids[k], tri_slots.ids[t], found);
-                                        });
-  if (m.resting_vertices.empty() || m.moving_triangles.empty()) return out;
-  Bvh resting_tree, moving_tri_tree;
-  Slots resting_slots, moving_tri_slots;
-  trees.side_by_side(
-      [&](int with) {
-        resting_tree = trees.vertices(m.resting_vertices, with);
-        resting_slots = number_slots(resting_tree, &m.resting_vertices, trees.slabs, vertex);
-      },
-      [&](int with) {
-        moving_tri_tree = trees.build(tris, &m.moving_triangles, trees.grow, with);
-        moving_tri_slots = number_slots(moving_tri_tree, &m.moving_triangles, trees.slabs, triangle);
-      });
-  auto rest = collect_overlaps<Examined>(resting_tree, moving_tri_tree, false, trees.threads,
-                                         [&](std::uint32_t k, std::uint32_t t, std::vector<Examined>& found) {
-                                           if (slabs_apart(resting_slots.slabs[k], moving_tri_slots.slabs[t])) return;
-                                           test(resting_slots.ids[k], moving_tri_slots.ids[t], found);
-                                         });
-  out.insert(out.end(), rest.begin(), rest.end());
-  return out;
-}
+};
 
-// Both sides grown by half the distance: boxes of edges closer than min_distance overlap.
-std::vector<Examined> edge_edge_pairs(const StepTrees& trees, const std::vector<Edge>& edges, const Motion& m,
-                                      const CcdOptions& ccd, bool record) {
-  const auto& x0 = trees.x0;
-  const auto& x1 = trees.x1;
-  auto test = [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
-    Edge e = edges[i], f = edges[j];
-    if (shares_vertex(e, f)) return;
-    if (f < e) std::swap(e, f);
-    test_edge_edge(trees, e, f, ccd, record, found);
-  };
-  if (m.moving_edges.size() * kSparseFactor < edges.size()) {
+// The edge-edge search: moving edges against each other and against the resting ones; with few
+// moving edges, a scan instead of trees. Both sides are grown by half the distance: boxes of
+// edges closer than min_distance overlap.
+struct EdgeEdgeSearch {
+  const StepTrees& trees;
+  const std::vector<Edge>& edges;
+  const Motion& m;
+  SlotTree moving, resting;
+
+  bool sparse() const { return m.moving_edges.size() * kSparseFactor < edges.size(); }
+  bool with_resting() const { return !m.resting_edges.empty() && !m.moving_edges.empty(); }
+  void plan(TreeBuilds& builds) {
+    if (sparse()) return;
+    plan_tree(trees, builds, moving, edges, &m.moving_edges, 0.5 * trees.grow);
+    if (with_resting()) plan_tree(trees, builds, resting, edges, &m.resting_edges, 0.5 * trees.grow);
+  }
+  // \pre the planned trees are built.
+  std::vector<Examined> pairs(const CcdOptions& ccd, bool record) const {
+    auto test = [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
+      Edge e = edges[i], f = edges[j];
+      if (shares_vertex(e, f)) return;
+      if (f < e) std::swap(e, f);
+      test_edge_edge(trees, e, f, ccd, record, found);
+    };
+    if (sparse()) return scan(test);
+    auto out = slot_pairs(moving, moving, true, trees.threads, test);
+    if (!with_resting()) return out;
+    auto rest = slot_pairs(moving, resting, false, trees.threads, test);
+    out.insert(out.end(), rest.begin(), rest.end());
+    return out;
+  }
+  template <class Test>
+  std::vector<Examined> scan(const Test& test) const {
+    const auto& x0 = trees.x0;
+    const auto& x1 = trees.x1;
     std::vector<char> moves(edges.size(), 0);
     std::vector<Aabb> few(m.moving_edges.size());
     for (std::size_t k = 0; k < few.size(); ++k) {
@@ -393,34 +468,7 @@ std::vector<Examined> edge_edge_pairs(const StepTrees& trees, const std::vector<
           test(i, j, found);
         });
   }
-  auto edge = [&](std::uint32_t e) { return edges[e]; };
-  Bvh moving, resting;
-  Slots moving_slots, resting_slots;
-  const bool rests = !m.resting_edges.empty() && !m.moving_edges.empty();
-  trees.side_by_side(
-      [&](int with) {
-        moving = trees.build(edges, &m.moving_edges, 0.5 * trees.grow, with);
-        moving_slots = number_slots(moving, &m.moving_edges, trees.slabs, edge);
-      },
-      [&](int with) {
-        if (!rests) return;
-        resting = trees.build(edges, &m.resting_edges, 0.5 * trees.grow, with);
-        resting_slots = number_slots(resting, &m.resting_edges, trees.slabs, edge);
-      });
-  auto out = collect_overlaps<Examined>(moving, moving, true, trees.threads,
-                                        [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
-                                          if (slabs_apart(moving_slots.slabs[i], moving_slots.slabs[j])) return;
-                                          test(moving_slots.ids[i], moving_slots.ids[j], found);
-                                        });
-  if (!rests) return out;
-  auto rest = collect_overlaps<Examined>(moving, resting, false, trees.threads,
-                                         [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
-                                           if (slabs_apart(moving_slots.slabs[i], resting_slots.slabs[j])) return;
-                                           test(moving_slots.ids[i], resting_slots.ids[j], found);
-                                         });
-  out.insert(out.end(), rest.begin(), rest.end());
-  return out;
-}
+};
 
 // The pairs of `candidates` with an active vertex whose swept boxes overlap (as the broad phase
 // would have found them), tested as above.
@@ -469,8 +517,14 @@ std::vector<CcdPair> find_step_collisions(const std::vector<dvec3>& x0, const st
     const std::vector<Edge> own_edges = options.edges ? std::vector<Edge>() : unique_edges(triangles);
     const std::vector<Edge>& edges = options.edges ? *options.edges : own_edges;
     const Motion motion = classify_motion(x0, x1, triangles, edges, options);
-    found = vertex_triangle_pairs(trees, triangles, motion, options.ccd, record);
-    std::vector<Examined> ee = edge_edge_pairs(trees, edges, motion, options.ccd, record);
+    VertexTriangleSearch vertex_triangle{trees, triangles, motion, {}, {}, {}, {}};
+    EdgeEdgeSearch edge_edge{trees, edges, motion, {}, {}};
+    TreeBuilds builds;
+    vertex_triangle.plan(builds);
+    edge_edge.plan(builds);
+    builds.run(options.threads);
+    found = vertex_triangle.pairs(options.ccd, record);
+    std::vector<Examined> ee = edge_edge.pairs(options.ccd, record);
     found.insert(found.end(), ee.begin(), ee.end());
   }
   std::vector<CcdPair> out;

@@ -33,6 +33,10 @@ struct alignas(16) Slabs {
 /// \pre finite a, b, pad >= 0, |coordinates| < 1e37.
 Slabs segment_slabs(const glm::dvec3& a, const glm::dvec3& b, double pad);
 
+/// The slabs of n points (their convex hull), widened and rounded as segment_slabs.
+/// \pre as segment_slabs, n >= 1.
+Slabs point_slabs(const glm::dvec3* points, int n, double pad);
+
 /// Widens `into` to hold `other` too.
 inline void merge(Slabs& into, const Slabs& other) {
   for (int k = 0; k < kSlabCount; ++k) {
