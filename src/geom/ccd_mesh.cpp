@@ -195,25 +195,37 @@ struct StepTrees {
   }
 };
 
-// A tree's items renumbered in leaf order (slots), with each slot's element id and the slabs of
-// its vertices' paths: the broad phase's last filter reads them front to back.
+// A tree's items renumbered in leaf order (slots), with each slot's element id, its vertices and
+// the slabs of their paths: the broad phase's last filters read them front to back.
+template <std::size_t N>
 struct Slots {
   std::vector<std::uint32_t> ids;
+  std::vector<std::array<std::uint32_t, N>> elements;
   std::vector<Slabs> slabs;
 };
 
 // `element(id)` gives an element's vertices; `subset` maps tree items to ids (null: identity).
-template <class Element>
-Slots number_slots(Bvh& tree, const std::vector<std::uint32_t>* subset, const std::vector<Slabs>& vertex_slabs,
-                   const Element& element) {
-  Slots s;
+template <std::size_t N, class Element>
+Slots<N> number_slots(Bvh& tree, const std::vector<std::uint32_t>* subset, const std::vector<Slabs>& vertex_slabs,
+                      const Element& element) {
+  Slots<N> s;
   s.ids = number_items_in_leaf_order(tree);
+  s.elements.resize(s.ids.size());
   s.slabs.resize(s.ids.size());
   for (std::size_t k = 0; k < s.ids.size(); ++k) {
     if (subset) s.ids[k] = (*subset)[s.ids[k]];
-    for (std::uint32_t v : element(s.ids[k])) merge(s.slabs[k], vertex_slabs[v]);
+    s.elements[k] = element(s.ids[k]);
+    for (std::uint32_t v : s.elements[k]) merge(s.slabs[k], vertex_slabs[v]);
   }
   return s;
+}
+
+template <std::size_t A, std::size_t B>
+bool share_vertex(const std::array<std::uint32_t, A>& a, const std::array<std::uint32_t, B>& b) {
+  for (std::uint32_t v : a)
+    for (std::uint32_t w : b)
+      if (v == w) return true;
+  return false;
 }
 
 // Each vertex's path over the step as Slabs, padded so that primitives whose slabs are apart stay
@@ -296,19 +308,23 @@ void test_edge_edge(const StepTrees& trees, const Edge& e, const Edge& f, const 
 constexpr std::size_t kSparseFactor = 16;  // "few": under 1/16 of the elements take part
 
 // A tree over some of the mesh's elements, its items numbered in leaf order.
+template <std::size_t N>
 struct SlotTree {
   Bvh tree;
-  Slots slots;
+  Slots<N> slots;
 };
 
-// The pairs of a's and b's elements whose boxes overlap and whose slabs are not apart (with
-// `self`, b is a and each unordered pair comes once): test(id in a, id in b, found).
-template <class Test>
-std::vector<Examined> slot_pairs(const SlotTree& a, const SlotTree& b, bool self, int threads, const Test& test) {
+// The pairs of a's and b's elements whose boxes overlap, that share no vertex and whose slabs
+// are not apart (with `self`, b is a and each unordered pair comes once):
+// test(id in a, its vertices, id in b, its vertices, found).
+template <std::size_t A, std::size_t B, class Test>
+std::vector<Examined> slot_pairs(const SlotTree<A>& a, const SlotTree<B>& b, bool self, int threads, const Test& test) {
   return collect_overlaps<Examined>(a.tree, b.tree, self, threads,
                                     [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
-                                      if (!slabs_apart(a.slots.slabs[i], b.slots.slabs[j]))
-                                        test(a.slots.ids[i], b.slots.ids[j], found);
+                                      const auto& ea = a.slots.elements[i];
+                                      const auto& eb = b.slots.elements[j];
+                                      if (share_vertex(ea, eb) || slabs_apart(a.slots.slabs[i], b.slots.slabs[j])) return;
+                                      test(a.slots.ids[i], ea, b.slots.ids[j], eb, found);
                                     });
 }
 
@@ -345,19 +361,20 @@ class TreeBuilds {
 
 // Plans the tree over elements (or the subset of them) grown by g.
 template <std::size_t N>
-void plan_tree(const StepTrees& trees, TreeBuilds& builds, SlotTree& out,
+void plan_tree(const StepTrees& trees, TreeBuilds& builds, SlotTree<N>& out,
                const std::vector<std::array<std::uint32_t, N>>& elements, const std::vector<std::uint32_t>* subset,
                double g) {
   builds.add(subset ? subset->size() : elements.size(), [&trees, &out, &elements, subset, g] {
     out.tree = trees.build(elements, subset, g, 1);
-    out.slots = number_slots(out.tree, subset, trees.slabs, [&](std::uint32_t id) { return elements[id]; });
+    out.slots = number_slots<N>(out.tree, subset, trees.slabs, [&](std::uint32_t id) { return elements[id]; });
   });
 }
 
-void plan_vertex_tree(const StepTrees& trees, TreeBuilds& builds, SlotTree& out, const std::vector<std::uint32_t>& ids) {
+void plan_vertex_tree(const StepTrees& trees, TreeBuilds& builds, SlotTree<1>& out,
+                      const std::vector<std::uint32_t>& ids) {
   builds.add(ids.size(), [&trees, &out, &ids] {
     out.tree = trees.vertices(ids, 1);
-    out.slots = number_slots(out.tree, &ids, trees.slabs, [](std::uint32_t v) { return std::array<std::uint32_t, 1>{v}; });
+    out.slots = number_slots<1>(out.tree, &ids, trees.slabs, [](std::uint32_t v) { return std::array<std::uint32_t, 1>{v}; });
   });
 }
 
@@ -367,7 +384,8 @@ struct VertexTriangleSearch {
   const StepTrees& trees;
   const Tris& tris;
   const Motion& m;
-  SlotTree triangles, moving_vertices, resting_vertices, moving_triangles;
+  SlotTree<3> triangles, moving_triangles;
+  SlotTree<1> moving_vertices, resting_vertices;
 
   bool sparse() const {
     return m.moving_vertices.size() * kSparseFactor < m.moving_vertices.size() + m.resting_vertices.size();
@@ -389,9 +407,13 @@ struct VertexTriangleSearch {
       test_vertex_triangle(trees, v, tri, t, ccd, record, found);
     };
     if (sparse()) return scans(test);
-    auto out = slot_pairs(moving_vertices, triangles, false, trees.threads, test);
+    auto tested = [&](std::uint32_t v, const std::array<std::uint32_t, 1>&, std::uint32_t t,
+                      const std::array<std::uint32_t, 3>& tri, std::vector<Examined>& found) {
+      test_vertex_triangle(trees, v, tri, t, ccd, record, found);
+    };
+    auto out = slot_pairs(moving_vertices, triangles, false, trees.threads, tested);
     if (!with_resting()) return out;
-    auto rest = slot_pairs(resting_vertices, moving_triangles, false, trees.threads, test);
+    auto rest = slot_pairs(resting_vertices, moving_triangles, false, trees.threads, tested);
     out.insert(out.end(), rest.begin(), rest.end());
     return out;
   }
@@ -425,7 +447,7 @@ struct EdgeEdgeSearch {
   const StepTrees& trees;
   const std::vector<Edge>& edges;
   const Motion& m;
-  SlotTree moving, resting;
+  SlotTree<2> moving, resting;
 
   bool sparse() const { return m.moving_edges.size() * kSparseFactor < edges.size(); }
   bool with_resting() const { return !m.resting_edges.empty() && !m.moving_edges.empty(); }
@@ -443,9 +465,13 @@ struct EdgeEdgeSearch {
       test_edge_edge(trees, e, f, ccd, record, found);
     };
     if (sparse()) return scan(test);
-    auto out = slot_pairs(moving, moving, true, trees.threads, test);
+    auto tested = [&](std::uint32_t, Edge e, std::uint32_t, Edge f, std::vector<Examined>& found) {
+      if (f < e) std::swap(e, f);
+      test_edge_edge(trees, e, f, ccd, record, found);
+    };
+    auto out = slot_pairs(moving, moving, true, trees.threads, tested);
     if (!with_resting()) return out;
-    auto rest = slot_pairs(moving, resting, false, trees.threads, test);
+    auto rest = slot_pairs(moving, resting, false, trees.threads, tested);
     out.insert(out.end(), rest.begin(), rest.end());
     return out;
   }
