@@ -87,6 +87,7 @@ class Refiner {
   void drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::vector<glm::vec3>& start,
                                  std::vector<glm::vec3>& target) const;
   void inherit_clearance(const FractureSurface& s, const RefinementTree& tree, std::vector<float>& clearance) const;
+  void shorten_clearance(const std::vector<glm::vec4>& full, const std::vector<glm::vec4>& at);
 
   FractureSurface& s_;
   const FieldGrid4& field_;
@@ -249,11 +250,24 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
         st.max_displacement = std::max<double>(st.max_displacement, glm::distance(glm::vec3(x0[i]), glm::vec3(x1[i])));
       samples_ = std::move(trial);
       velocity_ = std::move(vel);
+      shorten_clearance(full, x1);
       return true;
     }
   }
   s_.positions = x0;  // no step lowered the energy: stay (samples_ and velocity_ are x0's still)
+  shorten_clearance(full, x0);
   return false;
+}
+
+// The collision constraints left clearance_ as bounds at `full`; a vertex that ends elsewhere on
+// its path (a shortened or refused step) is at least that bound minus the gap away from B.
+void Refiner::shorten_clearance(const std::vector<glm::vec4>& full, const std::vector<glm::vec4>& at) {
+  for (std::size_t i = 0; i < at.size(); ++i) {
+    if (clearance_[i] < 0.0f || full[i] == at[i]) continue;
+    const double gap = glm::distance(glm::dvec3(glm::vec3(full[i])), glm::dvec3(glm::vec3(at[i])));
+    const double bound = (double(clearance_[i]) - gap) * (1.0 - 1e-6);
+    clearance_[i] = bound > 0.0 ? float(bound) : -1.0f;
+  }
 }
 
 // Same arithmetic as surface_energy (double from the float positions) so that an accepted split
