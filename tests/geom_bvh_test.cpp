@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "geom/bvh.hpp"
@@ -102,6 +103,37 @@ TEST(GeomBvh, ItemsNumberedInLeafOrderKeepTheirBoxesAndPairs) {
   std::sort(renamed.begin(), renamed.end());
   EXPECT_EQ(renamed, pairs);
   ASSERT_GT(pairs.size(), 100u);
+}
+
+// The single-precision leaf boxes contain the double ones at every scale, up to and beyond the
+// floats' range (there the largest float, or infinity, bounds them), including zero and
+// subnormal bounds.
+TEST(GeomBvh, FloatLeafBoxesHoldTheirDoubleBoxes) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), exponent(-45.0, 300.0);
+  std::vector<Aabb> boxes;
+  for (int k = 0; k < 3000; ++k) {
+    const double scale = k % 7 == 0 ? 0.0 : std::pow(10.0, exponent(rng));
+    Aabb b;
+    b.lo = scale * dvec3(unit(rng), unit(rng), unit(rng));
+    b.hi = b.lo + std::abs(unit(rng)) * scale * dvec3(1.0, 0.5, 0.25);
+    boxes.push_back(b);
+  }
+  for (int threads : {1, 2}) {
+    fracref::BvhOptions o;
+    o.threads = threads;
+    const Bvh bvh = fracref::build_bvh(boxes, o);
+    for (std::size_t k = 0; k < bvh.leaf_boxes.size(); ++k)
+      for (int a = 0; a < 3; ++a) {
+        ASSERT_LE(double(bvh.float_boxes.lo[a][k]), bvh.leaf_boxes[k].lo[a]) << k << " " << a;
+        ASSERT_GE(double(bvh.float_boxes.hi[a][k]), bvh.leaf_boxes[k].hi[a]) << k << " " << a;
+        // Tight: within a few float steps of the double bound (or the largest float beyond it).
+        const double lo = bvh.leaf_boxes[k].lo[a];
+        if (std::abs(lo) < 1e38) {
+          EXPECT_GE(double(bvh.float_boxes.lo[a][k]), lo - (std::abs(lo) * 1e-6 + 1e-36)) << k << " " << a;
+        }
+      }
+  }
 }
 
 TEST(GeomBvh, ThreadedBuildGivesTheSameAnswers) {

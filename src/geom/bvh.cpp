@@ -41,12 +41,28 @@ constexpr int kGridBits = 10;
 constexpr std::size_t kParallelItems = 8192;
 
 // Stable LSD radix sort, one counting sort per digit (its counting and placing split in two
-// parts for a large tree: the same order as one part).
+// parts for a large tree: the same order as one part). On one thread the three digits' counts
+// are taken in one pass over the items.
 void radix_sort(std::vector<Keyed>& items, int threads) {
   constexpr int kBits = kGridBits, kPasses = 3;
   constexpr std::uint32_t kDigits = 1u << kBits, kMask = kDigits - 1;
   const std::size_t parts = threads >= 2 && items.size() >= kParallelItems ? 2 : 1;
   std::vector<Keyed> scratch(items.size());
+  if (parts == 1) {
+    std::vector<std::uint32_t> start(kPasses * kDigits, 0);
+    for (const Keyed& k : items)
+      for (int pass = 0; pass < kPasses; ++pass) ++start[pass * kDigits + ((k.code >> (pass * kBits)) & kMask)];
+    for (int pass = 0; pass < kPasses; ++pass) {
+      std::uint32_t at = 0;
+      for (std::uint32_t d = 0; d < kDigits; ++d) at += std::exchange(start[pass * kDigits + d], at);
+    }
+    for (int pass = 0; pass < kPasses; ++pass) {
+      std::uint32_t* next = &start[pass * kDigits];
+      for (const Keyed& k : items) scratch[next[(k.code >> (pass * kBits)) & kMask]++] = k;
+      items.swap(scratch);
+    }
+    return;
+  }
   for (int pass = 0; pass < kPasses; ++pass) {
     const int shift = pass * kBits;
     counting_sort(
@@ -160,7 +176,13 @@ std::vector<BvhNode> join_subtrees(const std::vector<BvhNode>& left, const std::
 // items and leaf_boxes are sized for all refs).
 std::vector<BvhNode> build_subtree(const std::vector<Keyed>& refs, const std::vector<Aabb>& boxes, std::uint32_t begin,
                                    std::uint32_t end, std::uint32_t leaf, Bvh& bvh) {
-  for (std::uint32_t k = begin; k < end; ++k) bvh.items[k] = refs[k].id, bvh.leaf_boxes[k] = boxes[refs[k].id];
+  // A gather at random (the boxes in Morton order): prefetched a few items ahead, it took a third
+  // less time than alone.
+  constexpr std::uint32_t kAhead = 16;
+  for (std::uint32_t k = begin; k < end; ++k) {
+    if (k + kAhead < end) __builtin_prefetch(&boxes[refs[k + kAhead].id]);
+    bvh.items[k] = refs[k].id, bvh.leaf_boxes[k] = boxes[refs[k].id];
+  }
   std::vector<BvhNode> nodes = build_nodes(refs, begin, end, leaf);
   fit_boxes(nodes, bvh.leaf_boxes);
   return nodes;
@@ -241,14 +263,29 @@ std::vector<Aabb> triangle_boxes(const std::vector<dvec3>& positions,
 
 namespace {
 
-float round_down(double x) {
+float exact_round_down(double x) {
   const float f = static_cast<float>(x);
   return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
 }
 
-float round_up(double x) {
+float exact_round_up(double x) {
   const float f = static_cast<float>(x);
   return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
+// A float at most (at least) x: x moved away by 2^-22 of itself (twice the float rounding, at
+// most 2^-24 relative) and by 1e-37 (the floats' subnormal range) before it is rounded. No
+// branch on the rounding's direction, which goes either way at random: the exact rounding took a
+// quarter of a build (a library call and a mispredicted branch per bound). Only bounds beyond
+// the floats' range take that way.
+float round_down(double x) {
+  if (!(std::abs(x) < 1e38)) return exact_round_down(x);
+  return static_cast<float>(x - (std::abs(x) * 0x1p-22 + 1e-37));
+}
+
+float round_up(double x) {
+  if (!(std::abs(x) < 1e38)) return exact_round_up(x);
+  return static_cast<float>(x + (std::abs(x) * 0x1p-22 + 1e-37));
 }
 
 void fill_float_boxes(Bvh& bvh, int threads) {
