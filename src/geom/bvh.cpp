@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "geom/bvh_traverse.hpp"
+#include "geom/float_bounds.hpp"
 #include "geom/morton.hpp"
 #include "util/counting_sort.hpp"
 #include "util/error.hpp"
@@ -41,28 +42,12 @@ constexpr int kGridBits = 10;
 constexpr std::size_t kParallelItems = 8192;
 
 // Stable LSD radix sort, one counting sort per digit (its counting and placing split in two
-// parts for a large tree: the same order as one part). On one thread the three digits' counts
-// are taken in one pass over the items.
+// parts for a large tree: the same order as one part).
 void radix_sort(std::vector<Keyed>& items, int threads) {
   constexpr int kBits = kGridBits, kPasses = 3;
   constexpr std::uint32_t kDigits = 1u << kBits, kMask = kDigits - 1;
   const std::size_t parts = threads >= 2 && items.size() >= kParallelItems ? 2 : 1;
   std::vector<Keyed> scratch(items.size());
-  if (parts == 1) {
-    std::vector<std::uint32_t> start(kPasses * kDigits, 0);
-    for (const Keyed& k : items)
-      for (int pass = 0; pass < kPasses; ++pass) ++start[pass * kDigits + ((k.code >> (pass * kBits)) & kMask)];
-    for (int pass = 0; pass < kPasses; ++pass) {
-      std::uint32_t at = 0;
-      for (std::uint32_t d = 0; d < kDigits; ++d) at += std::exchange(start[pass * kDigits + d], at);
-    }
-    for (int pass = 0; pass < kPasses; ++pass) {
-      std::uint32_t* next = &start[pass * kDigits];
-      for (const Keyed& k : items) scratch[next[(k.code >> (pass * kBits)) & kMask]++] = k;
-      items.swap(scratch);
-    }
-    return;
-  }
   for (int pass = 0; pass < kPasses; ++pass) {
     const int shift = pass * kBits;
     counting_sort(
@@ -263,31 +248,6 @@ std::vector<Aabb> triangle_boxes(const std::vector<dvec3>& positions,
 
 namespace {
 
-float exact_round_down(double x) {
-  const float f = static_cast<float>(x);
-  return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
-}
-
-float exact_round_up(double x) {
-  const float f = static_cast<float>(x);
-  return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
-}
-
-// A float at most (at least) x: x moved away by 2^-22 of itself (twice the float rounding, at
-// most 2^-24 relative) and by 1e-37 (the floats' subnormal range) before it is rounded. No
-// branch on the rounding's direction, which goes either way at random: the exact rounding took a
-// quarter of a build (a library call and a mispredicted branch per bound). Only bounds beyond
-// the floats' range take that way.
-float round_down(double x) {
-  if (!(std::abs(x) < 1e38)) return exact_round_down(x);
-  return static_cast<float>(x - (std::abs(x) * 0x1p-22 + 1e-37));
-}
-
-float round_up(double x) {
-  if (!(std::abs(x) < 1e38)) return exact_round_up(x);
-  return static_cast<float>(x + (std::abs(x) * 0x1p-22 + 1e-37));
-}
-
 void fill_float_boxes(Bvh& bvh, int threads) {
   const std::size_t n = bvh.leaf_boxes.size(), padded = n + FloatLeafBoxes::kLanes;
   for (int a = 0; a < 3; ++a) {
@@ -298,8 +258,8 @@ void fill_float_boxes(Bvh& bvh, int threads) {
   parallel_chunks(n, chunks, threads, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k)
       for (int a = 0; a < 3; ++a) {
-        bvh.float_boxes.lo[a][k] = round_down(bvh.leaf_boxes[k].lo[a]);
-        bvh.float_boxes.hi[a][k] = round_up(bvh.leaf_boxes[k].hi[a]);
+        bvh.float_boxes.lo[a][k] = float_below(bvh.leaf_boxes[k].lo[a]);
+        bvh.float_boxes.hi[a][k] = float_above(bvh.leaf_boxes[k].hi[a]);
       }
   });
 }

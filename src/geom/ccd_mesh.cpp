@@ -107,8 +107,6 @@ using namespace ccd_detail;
 // took 1-5% off the wall's searches against 8 (three interleaved runs each).
 constexpr std::uint32_t kLeaf = 16;
 
-bool shares_vertex(const Edge& e, const Edge& f) { return e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1]; }
-
 // Which vertices, triangles and edges move over the step; with `all_moving` every used vertex
 // and every element counts as moving (the exhaustive test).
 struct Motion {
@@ -379,7 +377,7 @@ struct VertexTriangleSearch {
   std::vector<Examined> pairs(const CcdOptions& ccd, bool record) const {
     auto test = [&](std::uint32_t v, std::uint32_t t, std::vector<Examined>& found) {
       const auto& tri = tris[t];
-      if (tri[0] == v || tri[1] == v || tri[2] == v) return;
+      if (share_vertex(std::array<std::uint32_t, 1>{v}, tri)) return;
       test_vertex_triangle(trees, v, tri, t, ccd, record, found);
     };
     if (sparse()) return scans(test);
@@ -436,7 +434,7 @@ struct EdgeEdgeSearch {
   std::vector<Examined> pairs(const CcdOptions& ccd, bool record) const {
     auto test = [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
       Edge e = edges[i], f = edges[j];
-      if (shares_vertex(e, f)) return;
+      if (share_vertex(e, f)) return;
       if (f < e) std::swap(e, f);
       test_edge_edge(trees, e, f, ccd, record, found);
     };

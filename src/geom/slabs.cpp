@@ -3,18 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
+
+#include "geom/float_bounds.hpp"
 
 namespace fracref {
 namespace {
 
 constexpr double kU = 0x1p-53;  // unit roundoff of double
-
-// x rounded to a float at most (at least) x: moved away by 2^-22 of itself (twice the float
-// rounding, which is at most 2^-24 relative) and by 1e-37 (the floats' subnormal range) first,
-// which needs no branch per bound.
-float float_below(double x) { return static_cast<float>(x - (std::abs(x) * 0x1p-22 + 1e-37)); }
-float float_above(double x) { return static_cast<float>(x + (std::abs(x) * 0x1p-22 + 1e-37)); }
 
 // n . p for the eight directions of kSlabDirections, each as two additions of exact terms, in
 // the order ((n_x x + n_y y) + n_z z).
