@@ -1,7 +1,8 @@
 #pragma once
 // The Vulkan compute backend (DESIGN.md, Backends): the kernels of src/flow/backend.hpp on a
 // Vulkan device, with the CPU backend's semantics (same formulas, same operation order:
-// results agree to float rounding, bit for bit on lavapipe).
+// results bit for bit on any device that honours `precise`, lavapipe and an H100 seen so; see
+// shaders/flow_common.h).
 //
 // Use (e.g. for the CLI's --backend vulkan):
 //   std::unique_ptr<ComputeBackend> be = make_vulkan_backend();   // owns its VulkanContext

@@ -1,6 +1,7 @@
 // GLSL only: the arithmetic the flow kernels share with their CPU twins, operation for
-// operation, so that both backends agree to rounding (bit for bit where the device rounds
-// division and sqrt correctly and honours `precise`, as lavapipe does):
+// operation, so that both backends agree to rounding (bit for bit on a device that honours
+// `precise`; division and sqrt go through flow_div and flow_sqrt, which round correctly where the
+// device's own are only faithful, as Vulkan allows and an H100's are):
 //   flow_sample_field       = sample_field            (src/field/field_sampler.cpp)
 //   flow_accumulate_face    = accumulate_face_gradient (src/flow/velocity.cpp)
 // GLM's formulas are spelled out (mix, cross, length) because GLSL leaves the built-ins'
@@ -8,6 +9,56 @@
 // CPU build (x86-64 without -mfma) never forms either.
 #ifndef FRACREF_FLOW_COMMON_H
 #define FRACREF_FLOW_COMMON_H
+
+// (p, e) with p + e = a·b exactly: Dekker's product on Veltkamp halves, from rounded +, −, ×
+// alone (Vulkan requires those correctly rounded; fma() may be unfused, on lavapipe without
+// FMA hardware for one).
+vec2 flow_two_product(float a, float b) {
+  precise float ca = 4097.0 * a, cb = 4097.0 * b;
+  precise float ah = ca - (ca - a), bh = cb - (cb - b);
+  precise float al = a - ah, bl = b - bh;
+  precise float p = a * b;
+  precise float e = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+  return vec2(p, e);
+}
+
+// a / b rounded to nearest from the device's faithful quotient q (Vulkan allows 2.5 ulp): with
+// q·b = p + e, a − p is exact (Sterbenz: p is within a few ulps of a), so the residual
+// r = (a − p) − e carries one rounding and q + r/b lands on the correctly rounded quotient unless
+// a/b lies within ~2^-21 ulp of a rounding midpoint. A correctly rounding device keeps q (the
+// correction is under half an ulp). Zero, huge or non-finite q or b pass through (the split
+// would overflow). flow_div_from takes q, so that tests can hand it a quotient a few ulps off.
+float flow_div_from(float a, float b, float q) {
+  if (q == 0.0 || !(max(abs(q), abs(b)) <= 1.0e30)) return q;
+  const vec2 pe = flow_two_product(q, b);
+  precise float r = (a - pe.x) - pe.y;
+  precise float c = q + r / b;
+  return c;
+}
+
+float flow_div(float a, float b) {
+  precise float q = a / b;
+  return flow_div_from(a, b, q);
+}
+
+vec3 flow_div(vec3 a, float b) {
+  return vec3(flow_div(a.x, b), flow_div(a.y, b), flow_div(a.z, b));
+}
+
+// sqrt(x) rounded to nearest from the device's faithful s, as flow_div: s + (x − s²) / 2s
+// (flow_sqrt_from takes s).
+float flow_sqrt_from(float x, float s) {
+  if (!(s > 0.0) || !(s <= 1.0e19)) return s;
+  const vec2 pe = flow_two_product(s, s);
+  precise float r = (x - pe.x) - pe.y;
+  precise float c = s + r / (2.0 * s);
+  return c;
+}
+
+float flow_sqrt(float x) {
+  precise float s = sqrt(x);
+  return flow_sqrt_from(x, s);
+}
 
 // glm::mix(a, b, t) = a * (1 - t) + b * t.
 vec4 flow_mix(vec4 a, vec4 b, float t) {
@@ -29,7 +80,8 @@ vec4 flow_node(samplerBuffer grid, uvec3 dims, uint x, uint y, uint z) {
 // (ψ, ∇ψ) at p: g = (p − origin) / cell; i = clamp(floor(g), 0, n − 2); t = g − i (p clamped
 // into the box), then trilinear interpolation of the four channels, x first, then y, then z.
 vec4 flow_sample_field(samplerBuffer grid, uvec3 dims, vec4 origin_cell, vec3 p) {
-  precise vec3 g = (p - origin_cell.xyz) / origin_cell.w;
+  precise vec3 d = p - origin_cell.xyz;
+  const vec3 g = flow_div(d, origin_cell.w);
   uvec3 i0;
   precise vec3 t;
   for (int a = 0; a < 3; ++a) {
@@ -50,9 +102,10 @@ vec4 flow_sample_field(samplerBuffer grid, uvec3 dims, vec4 origin_cell, vec3 p)
 void flow_accumulate_face(vec3 xi, vec3 xa, vec3 xb, vec4 si, float psi_a, float psi_b, inout vec3 grad,
                           inout float mass) {
   const vec3 c = flow_cross(xa - xi, xb - xi);
-  precise float twice_area = sqrt(c.x * c.x + c.y * c.y + c.z * c.z);
+  precise float squared = c.x * c.x + c.y * c.y + c.z * c.z;
+  const float twice_area = flow_sqrt(squared);
   if (!(twice_area > 0.0)) return;
-  precise vec3 n = c / twice_area;
+  const vec3 n = flow_div(c, twice_area);
   precise float third_area = twice_area * (1.0 / 6.0);
   precise float psi_mean = (si.x + psi_a + psi_b) * (1.0 / 3.0);
   precise vec3 term = third_area * si.yzw + 0.5 * psi_mean * flow_cross(n, xb - xa);
@@ -64,7 +117,7 @@ void flow_accumulate_face(vec3 xi, vec3 xa, vec3 xb, vec4 si, float psi_a, float
 
 // v = −grad / mass and the mass; zero when no face had an area.
 vec3 flow_velocity(vec3 grad, float mass) {
-  precise vec3 v = -grad / mass;
+  const vec3 v = flow_div(-grad, mass);
   return mass > 0.0 ? v : vec3(0.0);
 }
 
