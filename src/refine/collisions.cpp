@@ -128,6 +128,8 @@ RimFaces rim_faces(const FractureSurface& s, const std::vector<glm::vec4>& x0, c
   const auto base = static_cast<std::uint32_t>(s.positions.size());
   for (std::uint32_t f = 0; f < s.faces.size(); ++f) {
     const glm::uvec4 g = s.faces[f];
+    // The flags first: most faces have no corner on B, and the flags are one word per vertex.
+    if (!((s.vertex_flags[g.x] | s.vertex_flags[g.y] | s.vertex_flags[g.z]) & kVertexBoundary)) continue;
     if (x0[g.x] == x1[g.x] && x0[g.y] == x1[g.y] && x0[g.z] == x1[g.z]) continue;
     std::array<std::uint32_t, 3> t = {g.x, g.y, g.z};
     bool any = false;
@@ -146,15 +148,23 @@ RimFaces rim_faces(const FractureSurface& s, const std::vector<glm::vec4>& x0, c
 // Rim faces that already cross B or lie outside it at x0 (the coarse surface can bulge out of B
 // near its rim) are left out: holding them back would only keep them outside, while the flow may
 // pull them in. Crossing is tested exactly (a B edge piercing the face is no vertex–triangle or
-// edge–edge contact, so CCD over a zero step would not see it).
-void drop_crossing_rim_faces(RimFaces& rim, const std::vector<glm::dvec3>& p0_rim, const ExteriorSurface& b) {
+// edge–edge contact, so CCD over a zero step would not see it). A face that does not meet B lies
+// wholly on one side of it, so a real corner with a positive clearance (inside B, off it) settles
+// the side without the costly inside test (three quarters of this function's time otherwise).
+void drop_crossing_rim_faces(RimFaces& rim, const std::vector<glm::dvec3>& p0_rim, const ExteriorSurface& b,
+                             const std::vector<float>& clearance) {
+  const auto inside_corner = [&](const std::array<std::uint32_t, 3>& tri) {
+    for (std::uint32_t v : tri)
+      if (v < clearance.size() && clearance[v] > 0.0f) return true;  // virtual ids are past the real ones
+    return false;
+  };
   std::vector<char> keep(rim.triangles.size(), 0);
   parallel_chunks(keep.size(), chunk_count(keep.size(), 512), kThreads,
                   [&](std::size_t, std::size_t begin, std::size_t end) {
                     for (std::size_t k = begin; k < end; ++k) {
                       const auto& tri = rim.triangles[k];
                       const glm::dvec3 &x = p0_rim[tri[0]], &y = p0_rim[tri[1]], &z = p0_rim[tri[2]];
-                      keep[k] = !b.meets(x, y, z) && b.contains((x + y + z) / 3.0);
+                      keep[k] = !b.meets(x, y, z) && (inside_corner(tri) || b.contains((x + y + z) / 3.0));
                     }
                   });
   std::size_t kept = 0;
@@ -195,7 +205,7 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
   opts.skip_resting_pairs = true;  // resting pairs cannot change by freezing (see the loop's end)
   const std::vector<glm::dvec3> p0 = to_double(x0);
   const std::vector<glm::dvec3> p0_rim = with_rim_points(s, rim, p0);
-  drop_crossing_rim_faces(rim, p0_rim, b);
+  drop_crossing_rim_faces(rim, p0_rim, b, clearance_at_x0);
   near_b.insert(near_b.end(), rim.triangles.begin(), rim.triangles.end());
   // Each round resets every vertex of every colliding pair; the moving set shrinks strictly, so
   // the loop ends. After the first round only pairs with a vertex reset in the round before can

@@ -12,7 +12,8 @@ namespace fracref {
 bool ExteriorSurface::meets(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) const {
   Aabb box;
   for (const glm::dvec3& p : {a, b, c}) box.expand(p);
-  std::vector<std::uint32_t> hits;
+  thread_local std::vector<std::uint32_t> hits;  // called per rim face on every step: no allocation each
+  hits.clear();
   query_box(bvh, box, hits);
   for (std::uint32_t h : hits) {
     const auto& q = bvh.triangles[h];
