@@ -78,6 +78,27 @@ TEST(GeomBvh, BoxQueriesAndPairsMatchBruteForce) {
   EXPECT_TRUE(fracref::build_bvh(std::vector<Aabb>{}).nodes.empty());
 }
 
+// Subtrees a test holds for (here: boxes wholly right of a plane x = c) are skipped, and the ids
+// left are query_box's less the items whose own boxes it holds for, in the same order.
+TEST(GeomBvh, QueryWhereSkipsWhatTheTestHoldsFor) {
+  std::mt19937_64 rng(8);
+  const auto a = random_boxes(rng, 900, 0.8);
+  const Bvh tree = fracref::build_bvh(a, {});
+  std::size_t skipped = 0;
+  for (const Aabb& q : random_boxes(rng, 50, 4.0)) {
+    const double c = q.lo.x + 0.5 * (q.hi.x - q.lo.x);
+    std::vector<std::uint32_t> all, where;
+    fracref::query_box(tree, q, all);
+    fracref::query_box_where(tree, q, [&](const Aabb& b) { return b.lo.x > c; }, where);
+    std::vector<std::uint32_t> expected;
+    for (std::uint32_t i : all)
+      if (!(a[i].lo.x > c)) expected.push_back(i);
+    EXPECT_EQ(where, expected);
+    skipped += all.size() - where.size();
+  }
+  EXPECT_GT(skipped, 100u);
+}
+
 TEST(GeomBvh, ItemsNumberedInLeafOrderKeepTheirBoxesAndPairs) {
   std::mt19937_64 rng(12);
   const auto boxes = random_boxes(rng, 900, 0.9);

@@ -86,5 +86,37 @@ TEST(QuadPrism, TouchingAndSharedEdgesAreNotSeparated) {
   EXPECT_TRUE(dart.separates({dvec3(2.1, 1, 0), dvec3(3, 1, 0), dvec3(3, 2, 0)}, {-1, -1, -1}));
 }
 
+// A box the prism separates holds no triangle it does not separate (random triangles inside such
+// boxes, touching their faces and corners), and boxes clear of it are mostly found so.
+TEST(QuadPrism, SeparatedBoxesHoldOnlySeparatedTriangles) {
+  std::mt19937_64 rng(33);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), frac(0.0, 1.0);
+  int boxes_separated = 0, boxes_clear = 0;
+  for (int it = 0; it < 20000; ++it) {
+    const Case c = random_case(rng, 25.0 * M_PI / 180.0, -1);
+    const double grow = it % 3 == 0 ? 0.0 : 0.2 * frac(rng);
+    const QuadPrism prism({c.x[0], c.x[1], c.x[2], c.x[3]}, glm::cross(c.x[2] - c.x[0], c.x[3] - c.x[1]), grow);
+    const dvec3 centre(2.0 * unit(rng), 2.0 * unit(rng), 1.0 * unit(rng));
+    const dvec3 half(0.5 * frac(rng), 0.5 * frac(rng), 0.5 * frac(rng));
+    const dvec3 lo = centre - half, hi = centre + half;
+    const bool sep = prism.separates_box(lo, hi);
+    boxes_separated += sep;
+    // Corners of the box, and points on its faces, as triangles' corners.
+    auto corner = [&](unsigned m) { return dvec3(m & 1 ? hi.x : lo.x, m & 2 ? hi.y : lo.y, m & 4 ? hi.z : lo.z); };
+    auto inside = [&] { return lo + dvec3(frac(rng), frac(rng), frac(rng)) * (hi - lo); };
+    bool all = true;
+    for (int t = 0; t < 8; ++t) {
+      const std::array<dvec3, 3> g = t < 4 ? std::array<dvec3, 3>{corner(rng() % 8), corner(rng() % 8), corner(rng() % 8)}
+                                           : std::array<dvec3, 3>{inside(), inside(), corner(rng() % 8)};
+      all = all && prism.separates(g, {-1, -1, -1});
+    }
+    if (sep) {
+      ASSERT_TRUE(all) << "case " << it;
+    }
+    boxes_clear += all;
+  }
+  EXPECT_GT(boxes_separated, boxes_clear / 2) << boxes_separated << " of " << boxes_clear;
+}
+
 }  // namespace
 }  // namespace fracref

@@ -316,20 +316,24 @@ Bvh build_bvh(const std::vector<dvec3>& positions, const std::vector<std::array<
 
 namespace {
 
-// Calls hit(item) for the items whose boxes overlap `box`, in leaf order, until it returns true;
-// returns whether one did.
-template <class Hit>
-bool each_box(const Bvh& bvh, const Aabb& box, const Hit& hit) {
+struct Nowhere {
+  bool operator()(const Aabb&) const { return false; }
+};
+
+// Calls hit(item) for the items whose boxes overlap `box` (less those in boxes `outside` holds
+// for), in leaf order, until it returns true; returns whether one did.
+template <class Hit, class Outside = Nowhere>
+bool each_box(const Bvh& bvh, const Aabb& box, const Hit& hit, const Outside& outside = {}) {
   if (bvh.nodes.empty()) return false;
   std::uint32_t stack[128];
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {
     const BvhNode& node = bvh.nodes[stack[--top]];
-    if (!node.box.overlaps(box)) continue;
+    if (!node.box.overlaps(box) || outside(node.box)) continue;
     if (node.count > 0) {
       for (std::uint32_t k = node.first; k < node.first + node.count; ++k)
-        if (bvh.leaf_boxes[k].overlaps(box) && hit(bvh.items[k])) return true;
+        if (bvh.leaf_boxes[k].overlaps(box) && !outside(bvh.leaf_boxes[k]) && hit(bvh.items[k])) return true;
       continue;
     }
     stack[top++] = node.first + 1;
@@ -345,6 +349,17 @@ void query_box(const Bvh& bvh, const Aabb& box, std::vector<std::uint32_t>& out)
     out.push_back(item);
     return false;
   });
+}
+
+void query_box_where(const Bvh& bvh, const Aabb& box, const std::function<bool(const Aabb&)>& outside,
+                     std::vector<std::uint32_t>& out) {
+  each_box(
+      bvh, box,
+      [&](std::uint32_t item) {
+        out.push_back(item);
+        return false;
+      },
+      outside);
 }
 
 bool any_box(const Bvh& bvh, const Aabb& box) {

@@ -4,6 +4,7 @@
 // point-in-closed-mesh.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -91,6 +92,12 @@ Bvh build_bvh(const std::vector<glm::dvec3>& positions, const std::vector<std::a
 
 /// Appends to `out` the ids of the items whose boxes overlap `box` (closed), in leaf order.
 void query_box(const Bvh& bvh, const Aabb& box, std::vector<std::uint32_t>& out);
+
+/// query_box, less the subtrees and items whose box `outside` holds for: a test that must hold
+/// for every point of the box it is given (say, that the box lies beyond a plane), so that
+/// whatever it skips is away from some other shape. The ids kept are in leaf order still.
+void query_box_where(const Bvh& bvh, const Aabb& box, const std::function<bool(const Aabb&)>& outside,
+                     std::vector<std::uint32_t>& out);
 
 /// Whether some item's box overlaps `box` (closed): query_box's answer is not empty.
 bool any_box(const Bvh& bvh, const Aabb& box);

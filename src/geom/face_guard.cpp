@@ -127,7 +127,8 @@ bool FaceGuard::meets(const std::vector<TriangleIds>& faces, const NewShapes& sh
 }
 
 std::vector<std::uint32_t> FaceGuard::snapshot_near(const std::vector<TriangleIds>& faces,
-                                                    const std::vector<std::uint32_t>& replaced) const {
+                                                    const std::vector<std::uint32_t>& replaced,
+                                                    const Slabs& near) const {
   Aabb box;
   for (const TriangleIds& t : faces) box.expand(box_of(t));
   std::vector<std::uint32_t> hits;
@@ -137,7 +138,18 @@ std::vector<std::uint32_t> FaceGuard::snapshot_near(const std::vector<TriangleId
       throw RunError("face guard: new faces outside every region given to it (an internal error; please report it)");
     hits.clear();
   }
-  query_box(bvh_, box, hits);
+  // A long rim chord's new faces span a box of a thousand faces, a few dozen of them near the
+  // faces they replace: the prisms skip the rest by subtree.
+  if (near.empty()) {
+    query_box(bvh_, box, hits);
+  } else {
+    query_box_where(
+        bvh_, box,
+        [&](const Aabb& b) {
+          return std::all_of(near.begin(), near.end(), [&](const QuadPrism& p) { return p.separates_box(b.lo, b.hi); });
+        },
+        hits);
+  }
   if (restricted_)
     for (std::uint32_t& g : hits) g = indexed_[g];
   std::erase_if(hits, [&](std::uint32_t g) { return std::find(replaced.begin(), replaced.end(), g) != replaced.end(); });
@@ -147,7 +159,7 @@ std::vector<std::uint32_t> FaceGuard::snapshot_near(const std::vector<TriangleId
 bool FaceGuard::meets_snapshot(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced,
                                const Slabs& near) const {
   const NewShapes shapes = shapes_of(faces);
-  for (std::uint32_t g : snapshot_near(faces, replaced)) {
+  for (std::uint32_t g : snapshot_near(faces, replaced, near)) {
     if (gone_[g]) continue;
     if (meets(faces, shapes, g, near)) return true;
   }
@@ -158,7 +170,7 @@ std::uint32_t FaceGuard::first_snapshot_hit(const std::vector<TriangleIds>& face
                                             const std::vector<std::uint32_t>& replaced, double reach) const {
   const NewShapes shapes = shapes_of(faces);
   const Slabs near = slabs(replaced, reach);
-  for (std::uint32_t g : snapshot_near(faces, replaced))
+  for (std::uint32_t g : snapshot_near(faces, replaced, near))
     if (meets(faces, shapes, g, near)) return g;
   return kNoHit;
 }

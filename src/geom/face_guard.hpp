@@ -83,9 +83,10 @@ class FaceGuard {
   bool beyond(const Slabs& slabs, const TriangleIds& g) const;
   // Whether one of `faces` (with their `boxes`) meets face g (exact).
   bool meets(const std::vector<TriangleIds>& faces, const NewShapes& shapes, std::uint32_t g, const Slabs& near) const;
-  // The snapshot faces other than `replaced` whose boxes overlap the box of `faces`.
+  // The snapshot faces other than `replaced` whose boxes overlap the box of `faces`, less those
+  // in a subtree whose box every prism of `near` separates (beyond() would hold for them).
   std::vector<std::uint32_t> snapshot_near(const std::vector<TriangleIds>& faces,
-                                           const std::vector<std::uint32_t>& replaced) const;
+                                           const std::vector<std::uint32_t>& replaced, const Slabs& near) const;
   // Whether `faces` meet a face of the snapshot that is neither gone nor in `replaced`.
   bool meets_snapshot(const std::vector<TriangleIds>& faces, const std::vector<std::uint32_t>& replaced,
                       const Slabs& near) const;

@@ -72,4 +72,18 @@ bool QuadPrism::separates(const std::array<glm::dvec3, 3>& g, const std::array<i
   return false;
 }
 
+// The least and the greatest n . x over the box are taken corner by corner (rounded a few ulps,
+// far below the margin), so the whole box lies beyond a plane exactly when they pass it.
+bool QuadPrism::separates_box(const glm::dvec3& lo, const glm::dvec3& hi) const {
+  const double margin = grow_ + 1e-9 * (grow_ + size_ + scale_ + std::max(max_abs(lo), max_abs(hi)));
+  auto least = [&](const glm::dvec3& n) {
+    return (n.x >= 0.0 ? n.x * lo.x : n.x * hi.x) + (n.y >= 0.0 ? n.y * lo.y : n.y * hi.y) +
+           (n.z >= 0.0 ? n.z * lo.z : n.z * hi.z);
+  };
+  if (least(normal_) - top_ > margin || bottom_ + least(-normal_) > margin) return true;
+  for (const Side& s : sides_)
+    if (s.from[0] && least(s.normal) - s.level > margin) return true;
+  return false;
+}
+
 }  // namespace fracref

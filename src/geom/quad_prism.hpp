@@ -26,6 +26,11 @@ class QuadPrism {
   /// Two or three shared corners, or any shared corner of a grown prism: never separated.
   bool separates(const std::array<glm::dvec3, 3>& g, const std::array<int, 3>& shared) const;
 
+  /// True only if the box [lo, hi] lies beyond one of the prism's planes by the margin that
+  /// separates() would use for a triangle inside it: then no point of the box meets the prism
+  /// (a tree's subtree, none of whose triangles can meet it, is skipped whole).
+  bool separates_box(const glm::dvec3& lo, const glm::dvec3& hi) const;
+
  private:
   struct Side {
     glm::dvec3 normal;  // unit, out of the quad
