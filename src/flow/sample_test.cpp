@@ -1,9 +1,9 @@
 #include "flow/sample_test.hpp"
 
-#include <thread>
 #include <vector>
 
 #include "flow/velocity.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 
@@ -26,9 +26,7 @@ void sample_velocities_cpu(const FieldGrid4& field, std::span<const glm::vec4> p
   };
   std::size_t n = samples.points.size();
   if (threads <= 1 || n < 4096) return work(0, n);
-  std::thread other(work, 0, n / 2);
-  work(n / 2, n);
-  other.join();
+  parallel_chunks(n, chunk_count(n, 2048), threads, [&](std::size_t, std::size_t b, std::size_t e) { work(b, e); });
 }
 
 }  // namespace fracref

@@ -161,17 +161,26 @@ std::vector<glm::vec3> Refiner::boundary_tangents() const {
 // normal stiffness at i is H_i = ψ_i Σ_j L_j²/(4 A_j) and the Newton step for it is M_i / H_i.
 // Each vertex's step is capped at kStiffFraction of it: a Jacobi-preconditioned descent.
 std::vector<float> Refiner::stiffness_steps() const {
-  std::vector<double> h(s_.positions.size(), 0.0);
-  for (const glm::uvec4& f : s_.faces) {
-    glm::dvec3 x[3] = {glm::dvec3(glm::vec3(s_.positions[f.x])), glm::dvec3(glm::vec3(s_.positions[f.y])),
-                       glm::dvec3(glm::vec3(s_.positions[f.z]))};
-    double area = 0.5 * glm::length(glm::cross(x[1] - x[0], x[2] - x[0]));
-    if (area <= 0.0) continue;
-    for (int k = 0; k < 3; ++k) {
-      glm::dvec3 opposite = x[(k + 2) % 3] - x[(k + 1) % 3];
-      h[f[k]] += glm::dot(opposite, opposite) / (4.0 * area);
+  // The faces' terms side by side, summed per vertex in face order (the same doubles as a
+  // serial loop); a degenerate face adds nothing.
+  std::vector<glm::dvec3> term(s_.faces.size());
+  parallel_chunks(term.size(), chunk_count(term.size(), 4096), kThreads, [&](std::size_t, std::size_t b, std::size_t e) {
+    for (std::size_t j = b; j < e; ++j) {
+      const glm::uvec4 f = s_.faces[j];
+      glm::dvec3 x[3] = {glm::dvec3(glm::vec3(s_.positions[f.x])), glm::dvec3(glm::vec3(s_.positions[f.y])),
+                         glm::dvec3(glm::vec3(s_.positions[f.z]))};
+      double area = 0.5 * glm::length(glm::cross(x[1] - x[0], x[2] - x[0]));
+      term[j] = glm::dvec3(0.0);
+      if (area <= 0.0) continue;
+      for (int k = 0; k < 3; ++k) {
+        glm::dvec3 opposite = x[(k + 2) % 3] - x[(k + 1) % 3];
+        term[j][k] = glm::dot(opposite, opposite) / (4.0 * area);
+      }
     }
-  }
+  });
+  std::vector<double> h(s_.positions.size(), 0.0);
+  for (std::size_t j = 0; j < term.size(); ++j)
+    for (int k = 0; k < 3; ++k) h[s_.faces[j][k]] += term[j][k];
   std::vector<float> out(h.size(), std::numeric_limits<float>::max());
   for (std::size_t i = 0; i < h.size(); ++i) {
     double stiffness = std::max(double(samples_[i].x), 1e-6) * h[i];
