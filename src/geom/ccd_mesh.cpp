@@ -111,7 +111,7 @@ constexpr std::uint32_t kLeaf = 16;
 // and every element counts as moving (the exhaustive test).
 struct Motion {
   std::vector<std::uint32_t> moving_vertices, resting_vertices;
-  std::vector<std::uint32_t> moving_triangles;  // only filled when some used vertex rests
+  std::vector<std::uint32_t> moving_triangles, resting_triangles;  // only filled when some used vertex rests
   std::vector<std::uint32_t> moving_edges, resting_edges;
 };
 
@@ -129,7 +129,7 @@ Motion classify_motion(const std::vector<dvec3>& x0, const std::vector<dvec3>& x
   auto moves = [&](std::uint32_t v) { return (state[v] & 2) != 0; };
   if (!m.resting_vertices.empty())
     for (std::uint32_t t = 0; t < tris.size(); ++t)
-      if (moves(tris[t][0]) || moves(tris[t][1]) || moves(tris[t][2])) m.moving_triangles.push_back(t);
+      (moves(tris[t][0]) || moves(tris[t][1]) || moves(tris[t][2]) ? m.moving_triangles : m.resting_triangles).push_back(t);
   for (std::uint32_t e = 0; e < edges.size(); ++e)
     ((moves(edges[e][0]) || moves(edges[e][1])) ? m.moving_edges : m.resting_edges).push_back(e);
   return m;
@@ -353,25 +353,27 @@ void plan_vertex_tree(const StepTrees& trees, TreeBuilds& builds, SlotTree<1>& o
 }
 
 // The vertex-triangle search: moving vertices against all triangles, resting vertices against
-// the moving triangles; with few moving vertices, scans instead of trees.
+// the moving triangles; with few moving vertices, scans instead of trees. When some vertices
+// rest, the triangles' tree is two, over the moving and the resting ones: the moving
+// triangles' tree serves both kinds of vertex, and no triangle is built into two trees.
 struct VertexTriangleSearch {
   const StepTrees& trees;
   const Tris& tris;
   const Motion& m;
-  SlotTree<3> triangles, moving_triangles;
+  SlotTree<3> triangles, moving_triangles, resting_triangles;
   SlotTree<1> moving_vertices, resting_vertices;
 
   bool sparse() const {
     return m.moving_vertices.size() * kSparseFactor < m.moving_vertices.size() + m.resting_vertices.size();
   }
-  bool with_resting() const { return !m.resting_vertices.empty() && !m.moving_triangles.empty(); }
+  bool some_rest() const { return !m.resting_vertices.empty(); }
   void plan(TreeBuilds& builds) {
     if (sparse()) return;
-    plan_tree(trees, builds, triangles, tris, nullptr, trees.grow);
     plan_vertex_tree(trees, builds, moving_vertices, m.moving_vertices);
-    if (!with_resting()) return;
+    if (!some_rest()) return plan_tree(trees, builds, triangles, tris, nullptr, trees.grow);
     plan_vertex_tree(trees, builds, resting_vertices, m.resting_vertices);
     plan_tree(trees, builds, moving_triangles, tris, &m.moving_triangles, trees.grow);
+    plan_tree(trees, builds, resting_triangles, tris, &m.resting_triangles, trees.grow);
   }
   // \pre the planned trees are built.
   std::vector<Examined> pairs(const CcdOptions& ccd, bool record) const {
@@ -385,10 +387,12 @@ struct VertexTriangleSearch {
                       const std::array<std::uint32_t, 3>& tri, std::vector<Examined>& found) {
       test_vertex_triangle(trees, v, tri, t, ccd, record, found);
     };
-    auto out = slot_pairs(moving_vertices, triangles, false, trees.threads, tested);
-    if (!with_resting()) return out;
-    auto rest = slot_pairs(resting_vertices, moving_triangles, false, trees.threads, tested);
-    out.insert(out.end(), rest.begin(), rest.end());
+    if (!some_rest()) return slot_pairs(moving_vertices, triangles, false, trees.threads, tested);
+    auto out = slot_pairs(moving_vertices, moving_triangles, false, trees.threads, tested);
+    auto more = slot_pairs(moving_vertices, resting_triangles, false, trees.threads, tested);
+    out.insert(out.end(), more.begin(), more.end());
+    more = slot_pairs(resting_vertices, moving_triangles, false, trees.threads, tested);
+    out.insert(out.end(), more.begin(), more.end());
     return out;
   }
   template <class Test>
@@ -517,7 +521,7 @@ std::vector<CcdPair> find_step_collisions(const std::vector<dvec3>& x0, const st
     const std::vector<Edge> own_edges = options.edges ? std::vector<Edge>() : unique_edges(triangles);
     const std::vector<Edge>& edges = options.edges ? *options.edges : own_edges;
     const Motion motion = classify_motion(x0, x1, triangles, edges, options);
-    VertexTriangleSearch vertex_triangle{trees, triangles, motion, {}, {}, {}, {}};
+    VertexTriangleSearch vertex_triangle{trees, triangles, motion, {}, {}, {}, {}, {}};
     EdgeEdgeSearch edge_edge{trees, edges, motion, {}, {}};
     TreeBuilds builds;
     vertex_triangle.plan(builds);
