@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <thread>
+
+#include "util/parallel.hpp"
 
 namespace fracref {
 namespace {
@@ -109,9 +110,8 @@ FieldGrid4 precompute_field_gradient(const std::vector<Grid3>& pyramid) {
         for (unsigned x = 0; x < base.dims.x; ++x) out.values[base.index(x, y, z)] = node_field(pyramid, tables, x, y, z);
   };
   // Each node is computed on its own, so splitting the z range cannot change a value.
-  std::thread other(slab, 0u, base.dims.z / 2);
-  slab(base.dims.z / 2, base.dims.z);
-  other.join();
+  const unsigned mid = base.dims.z / 2;
+  parallel_chunks(2, 2, 2, [&](std::size_t c, std::size_t, std::size_t) { c == 0 ? slab(0u, mid) : slab(mid, base.dims.z); });
   return out;
 }
 

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <thread>
 
 #include "util/error.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 namespace {
@@ -97,9 +97,7 @@ void run_pass(const Pass& p, int threads) {
     return;
   }
   const unsigned mid = nz / 2;
-  std::thread worker([&p, mid, nz] { run_pass_range(p, mid, nz); });
-  run_pass_range(p, 0, mid);
-  worker.join();
+  parallel_chunks(2, 2, 2, [&](std::size_t c, std::size_t, std::size_t) { c == 0 ? run_pass_range(p, 0, mid) : run_pass_range(p, mid, nz); });
 }
 
 glm::uvec3 pass_dims(glm::uvec3 dims, int axis, unsigned step) {

@@ -280,10 +280,10 @@ Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options) {
     // The two halves of the root touch disjoint ranges of refs: build them side by side and
     // append them behind the root (the same tree as the serial build).
     const std::uint32_t mid = split_node(refs, 0, n);
-    std::vector<BvhNode> right;
-    std::thread worker([&] { right = build_subtree(refs, boxes, mid, n, leaf, bvh); });
-    std::vector<BvhNode> left = build_subtree(refs, boxes, 0, mid, leaf, bvh);
-    worker.join();
+    std::vector<BvhNode> left, right;
+    parallel_chunks(2, 2, 2, [&](std::size_t c, std::size_t, std::size_t) {
+      (c == 0 ? left : right) = c == 0 ? build_subtree(refs, boxes, 0, mid, leaf, bvh) : build_subtree(refs, boxes, mid, n, leaf, bvh);
+    });
     bvh.nodes = join_subtrees(left, right);
     bvh.nodes[0].box = bvh.nodes[1].box;
     bvh.nodes[0].box.expand(bvh.nodes[2].box);

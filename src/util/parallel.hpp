@@ -17,7 +17,8 @@ inline std::size_t chunk_count(std::size_t n, std::size_t min_chunk = 256) {
 }
 
 /// Calls fn(chunk, begin, end) for every chunk of [0, n) split into `chunks` contiguous parts,
-/// on up to `threads` threads. Rethrows the exception of the lowest failing chunk.
+/// on up to `threads` new threads (the caller waits). Rethrows the exception of the lowest
+/// failing chunk.
 template <class Fn>
 void parallel_chunks(std::size_t n, std::size_t chunks, int threads, Fn&& fn) {
   auto bounds = [&](std::size_t c) { return n * c / chunks; };
@@ -37,9 +38,11 @@ void parallel_chunks(std::size_t n, std::size_t chunks, int threads, Fn&& fn) {
       }
     }
   };
+  // The caller waits rather than works: on the 2-core VM, a thread started beside a busy caller
+  // often shared its core for the whole call (the flow kernels ran at half speed: both halves
+  // concurrent, each twice as long), where threads started beside a waiting caller did not.
   std::vector<std::thread> pool;
-  for (int w = 1; w < workers; ++w) pool.emplace_back(work);
-  work();
+  for (int w = 0; w < workers; ++w) pool.emplace_back(work);
   for (auto& t : pool) t.join();
   for (auto& e : errors)
     if (e) std::rethrow_exception(e);
