@@ -19,6 +19,7 @@
 #include "refine/refine.hpp"
 #include "util/atomic_output.hpp"
 #include "util/error.hpp"
+#include "util/parallel.hpp"
 #include "version.hpp"
 
 namespace fracref {
@@ -124,10 +125,21 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   };
   JobReport report(scene, backend.name(), o.seed.value_or(scene.refine.seed));
   progress("load", 0.0, scene.exterior.filename().string());
-  MeshSoup exterior_mesh = read_mesh(scene.exterior);
-  ExteriorSurface b = make_exterior(exterior_mesh, scene.exterior.string());
-  CoarseModel model = load_coarse(scene);
-  CoarseAnimation animation = load_animation(scene, model);
+  // The exterior and the coarse model with its animation are independent: read side by side
+  // (an error of the exterior still comes first, as when read in turn).
+  MeshSoup exterior_mesh;
+  ExteriorSurface b;
+  CoarseModel model;
+  CoarseAnimation animation;
+  parallel_chunks(2, 2, 2, [&](std::size_t part, std::size_t, std::size_t) {
+    if (part == 0) {
+      exterior_mesh = read_mesh(scene.exterior);
+      b = make_exterior(exterior_mesh, scene.exterior.string());
+    } else {
+      model = load_coarse(scene);
+      animation = load_animation(scene, model);
+    }
+  });
   report.coarse(model, animation);
   write_surface_ply(out / "coarse_surface.ply", model.surface, nullptr);
   if (o.stop_after == Stage::preprocess) {
