@@ -253,16 +253,18 @@ Grid3 sample_strength(const FieldSpec& spec, glm::dvec3 bbox_min, glm::dvec3 bbo
   const auto material = detail::make_material(spec, noise, frame);
   const unsigned n = std::clamp(threads, 1u, resolution.z);
   // Thread t fills the z-slices t, t+n, ...; the slices of a thread that cannot be started are
-  // filled here, so the values never depend on how many threads ran.
+  // filled here, so the values never depend on how many threads ran. With more than one, the
+  // caller waits rather than fills (see util/parallel.hpp: a thread started beside a busy caller
+  // can share its core).
   std::vector<std::thread> workers;
-  unsigned started = 1;
+  unsigned started = n > 1 ? 0 : 1;
   try {
     for (; started < n; ++started)
       workers.emplace_back(fill_slices, std::ref(grid), std::cref(*material), started, n);
   } catch (const std::system_error&) {
   }
   for (unsigned t = started; t < n; ++t) fill_slices(grid, *material, t, n);
-  fill_slices(grid, *material, 0, n);
+  if (n == 1) fill_slices(grid, *material, 0, n);
   for (std::thread& w : workers) w.join();
   return grid;
 }

@@ -3,11 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <future>
 #include <sstream>
 
 #include "surface/surface_internal.hpp"
 #include "util/error.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 namespace {
@@ -131,12 +131,14 @@ void rebuild_adjacency(FractureSurface& s) {
     surface_detail::build_copies(s);
     return;
   }
-  auto other = std::async(std::launch::async, [&s] {
+  parallel_chunks(2, 2, 2, [&s](std::size_t part, std::size_t, std::size_t) {
+    if (part == 0) {
+      surface_detail::build_vertex_flags(s);
+      return;
+    }
     surface_detail::build_components(s);
     surface_detail::build_copies(s);
   });
-  surface_detail::build_vertex_flags(s);
-  other.get();
 }
 
 FractureSurface primary_copy(const FractureSurface& s) {
