@@ -11,6 +11,7 @@
 #include "flow/backend.hpp"
 #include "util/error.hpp"
 #include "vk_backend.hpp"
+#include "vk_fixture.hpp"
 
 namespace fracref {
 namespace {
@@ -194,26 +195,8 @@ void expect_close(const std::vector<glm::vec4>& cpu, const std::vector<glm::vec4
                      << largest << " at " << worst;
 }
 
-class VulkanBackendTest : public testing::Test {
+class VulkanBackendTest : public VulkanFixture {
  protected:
-  static void SetUpTestSuite() {
-    std::string why;
-    if (vulkan_available(&why)) context_ = std::make_unique<VulkanContext>(VulkanContextOptions{.validation = true});
-    else skip_reason_ = why;
-  }
-  static void TearDownTestSuite() { context_.reset(); }
-  void SetUp() override {
-    if (!context_) GTEST_SKIP() << "no Vulkan: " << skip_reason_;
-    context_->clear_validation_messages();
-  }
-  // Every test must leave the validation layer silent.
-  void TearDown() override {
-    if (!context_) return;
-    const auto messages = context_->validation_messages();
-    EXPECT_EQ(messages.size(), 0u);
-    for (std::size_t i = 0; i < messages.size() && i < 5; ++i) ADD_FAILURE() << messages[i];
-  }
-
   // K1 + K2 on both backends: the outputs agree; returns the CPU samples for K3.
   static std::vector<glm::vec4> compare_vertices(ComputeBackend& cpu, ComputeBackend& gpu, const Mesh& m) {
     const std::size_t n = m.positions.size();
@@ -232,11 +215,7 @@ class VulkanBackendTest : public testing::Test {
     expect_close(o_cpu, o_gpu, "sample test");
   }
 
-  static std::unique_ptr<VulkanContext> context_;
-  static std::string skip_reason_;
 };
-std::unique_ptr<VulkanContext> VulkanBackendTest::context_;
-std::string VulkanBackendTest::skip_reason_;
 
 TEST_F(VulkanBackendTest, ValidationLayerIsActive) {
   if (!context_->validation_enabled()) GTEST_SKIP() << "the Khronos validation layer is not installed";

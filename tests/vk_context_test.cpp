@@ -9,6 +9,7 @@
 #include "util/error.hpp"
 #include "vk_buffer.hpp"
 #include "vk_context.hpp"
+#include "vk_fixture.hpp"
 
 namespace fracref {
 namespace {
@@ -89,28 +90,7 @@ TEST(VulkanContextDeath, NoDriverIsReportedAsSuch) {
       testing::ExitedWithCode(3), "no Vulkan driver found: install mesa-vulkan-drivers");
 }
 
-class LiveContext : public testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    std::string why;
-    if (vulkan_available(&why)) context_ = std::make_unique<VulkanContext>(VulkanContextOptions{.validation = true});
-    else skip_reason_ = why;
-  }
-  static void TearDownTestSuite() { context_.reset(); }
-  void SetUp() override {
-    if (!context_) GTEST_SKIP() << "no Vulkan: " << skip_reason_;
-    context_->clear_validation_messages();
-  }
-  void TearDown() override {
-    if (context_) {
-      for (const std::string& m : context_->validation_messages()) ADD_FAILURE() << m;
-    }
-  }
-  static std::unique_ptr<VulkanContext> context_;
-  static std::string skip_reason_;
-};
-std::unique_ptr<VulkanContext> LiveContext::context_;
-std::string LiveContext::skip_reason_;
+class LiveContext : public VulkanFixture {};
 
 TEST_F(LiveContext, DescribesTheChosenDevice) {
   const std::string d = context_->describe();

@@ -10,6 +10,7 @@
 #include "field/pyramid.hpp"
 #include "util/error.hpp"
 #include "vk_pyramid.hpp"
+#include "vk_fixture.hpp"
 
 namespace fracref {
 namespace {
@@ -57,30 +58,7 @@ bool bit_identical(const std::vector<Grid3>& a, const std::vector<Grid3>& b) {
   return true;
 }
 
-class VulkanPyramidTest : public testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    std::string why;
-    if (vulkan_available(&why)) context_ = std::make_unique<VulkanContext>(VulkanContextOptions{.validation = true});
-    else skip_reason_ = why;
-  }
-  static void TearDownTestSuite() { context_.reset(); }
-  void SetUp() override {
-    if (!context_) GTEST_SKIP() << "no Vulkan: " << skip_reason_;
-    context_->clear_validation_messages();
-  }
-  // Every test must leave the validation layer silent.
-  void TearDown() override {
-    if (!context_) return;
-    const auto messages = context_->validation_messages();
-    EXPECT_EQ(messages.size(), 0u);
-    for (std::size_t i = 0; i < messages.size() && i < 5; ++i) ADD_FAILURE() << messages[i];
-  }
-  static std::unique_ptr<VulkanContext> context_;
-  static std::string skip_reason_;
-};
-std::unique_ptr<VulkanContext> VulkanPyramidTest::context_;
-std::string VulkanPyramidTest::skip_reason_;
+class VulkanPyramidTest : public VulkanFixture {};
 
 TEST_F(VulkanPyramidTest, ValidationLayerIsActive) {
   if (!context_->validation_enabled()) GTEST_SKIP() << "the Khronos validation layer is not installed";

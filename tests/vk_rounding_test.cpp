@@ -16,6 +16,7 @@
 #include "spv/rounding_probe_spv.h"
 #include "vk_context.hpp"
 #include "vk_flow_kernel.hpp"
+#include "vk_fixture.hpp"
 
 namespace fracref {
 namespace {
@@ -60,33 +61,12 @@ std::vector<Case> make_cases(std::size_t n, unsigned seed) {
   return cases;
 }
 
-class VulkanRoundingTest : public testing::Test {
+class VulkanRoundingTest : public VulkanFixture {
  protected:
-  static void SetUpTestSuite() {
-    std::string why;
-    if (vulkan_available(&why)) context_ = std::make_unique<VulkanContext>(VulkanContextOptions{.validation = true});
-    else skip_reason_ = why;
-  }
-  static void TearDownTestSuite() { context_.reset(); }
-  void SetUp() override {
-    if (!context_) GTEST_SKIP() << "no Vulkan: " << skip_reason_;
-    context_->clear_validation_messages();
-  }
-  void TearDown() override {
-    if (!context_) return;
-    const auto messages = context_->validation_messages();
-    EXPECT_EQ(messages.size(), 0u);
-    for (std::size_t i = 0; i < messages.size() && i < 5; ++i) ADD_FAILURE() << messages[i];
-  }
-
   // out[k] = (flow_div_from(a, b, q), flow_sqrt_from(|a|, s)) of cases[k], run on the device.
   static std::vector<float> probe(const std::vector<Case>& cases);
 
-  static std::unique_ptr<VulkanContext> context_;
-  static std::string skip_reason_;
 };
-std::unique_ptr<VulkanContext> VulkanRoundingTest::context_;
-std::string VulkanRoundingTest::skip_reason_;
 
 std::vector<float> VulkanRoundingTest::probe(const std::vector<Case>& cases) {
   VulkanContext& context = *context_;
