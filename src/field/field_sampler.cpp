@@ -111,7 +111,7 @@ FieldGrid4 precompute_field_gradient(const std::vector<Grid3>& pyramid) {
   };
   // Each node is computed on its own, so splitting the z range cannot change a value.
   const unsigned mid = base.dims.z / 2;
-  parallel_chunks(2, 2, 2, [&](std::size_t c, std::size_t, std::size_t) { c == 0 ? slab(0u, mid) : slab(mid, base.dims.z); });
+  parallel_pair([&] { slab(0u, mid); }, [&] { slab(mid, base.dims.z); });
   return out;
 }
 

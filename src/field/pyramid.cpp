@@ -97,7 +97,7 @@ void run_pass(const Pass& p, int threads) {
     return;
   }
   const unsigned mid = nz / 2;
-  parallel_chunks(2, 2, 2, [&](std::size_t c, std::size_t, std::size_t) { c == 0 ? run_pass_range(p, 0, mid) : run_pass_range(p, mid, nz); });
+  parallel_pair([&] { run_pass_range(p, 0, mid); }, [&] { run_pass_range(p, mid, nz); });
 }
 
 glm::uvec3 pass_dims(glm::uvec3 dims, int axis, unsigned step) {

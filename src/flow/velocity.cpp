@@ -7,8 +7,8 @@
 namespace fracref {
 namespace {
 
-// Dynamic chunks (util/parallel.hpp) on the calling thread and `threads` - 1 more: two fixed
-// halves left one core idle whenever the other half's thread was held up.
+// Small ranges on the caller; larger ones in dynamic chunks (util/parallel.hpp), which keep both
+// cores busy where two fixed halves waited on the slower one.
 template <class Fn>
 void parallel_for(std::size_t n, int threads, Fn fn) {
   if (threads <= 1 || n < 4096) {

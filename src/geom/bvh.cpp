@@ -281,10 +281,8 @@ Bvh build_bvh(const std::vector<Aabb>& boxes, const BvhOptions& options) {
     // append them behind the root (the same tree as the serial build).
     const std::uint32_t mid = split_node(refs, 0, n);
     std::vector<BvhNode> left, right;
-    parallel_chunks(2, 2, 2, [&](std::size_t c, std::size_t, std::size_t) {
-      if (c == 0) left = build_subtree(refs, boxes, 0, mid, leaf, bvh);
-      else right = build_subtree(refs, boxes, mid, n, leaf, bvh);
-    });
+    parallel_pair([&] { left = build_subtree(refs, boxes, 0, mid, leaf, bvh); },
+                  [&] { right = build_subtree(refs, boxes, mid, n, leaf, bvh); });
     bvh.nodes = join_subtrees(left, right);
     bvh.nodes[0].box = bvh.nodes[1].box;
     bvh.nodes[0].box.expand(bvh.nodes[2].box);

@@ -131,15 +131,15 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   ExteriorSurface b;
   CoarseModel model;
   CoarseAnimation animation;
-  parallel_chunks(2, 2, 2, [&](std::size_t part, std::size_t, std::size_t) {
-    if (part == 0) {
-      exterior_mesh = read_mesh(scene.exterior);
-      b = make_exterior(exterior_mesh, scene.exterior.string());
-    } else {
-      model = load_coarse(scene);
-      animation = load_animation(scene, model);
-    }
-  });
+  parallel_pair(
+      [&] {
+        exterior_mesh = read_mesh(scene.exterior);
+        b = make_exterior(exterior_mesh, scene.exterior.string());
+      },
+      [&] {
+        model = load_coarse(scene);
+        animation = load_animation(scene, model);
+      });
   report.coarse(model, animation);
   write_surface_ply(out / "coarse_surface.ply", model.surface, nullptr);
   if (o.stop_after == Stage::preprocess) {

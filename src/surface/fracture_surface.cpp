@@ -131,14 +131,11 @@ void rebuild_adjacency(FractureSurface& s) {
     surface_detail::build_copies(s);
     return;
   }
-  parallel_chunks(2, 2, 2, [&s](std::size_t part, std::size_t, std::size_t) {
-    if (part == 0) {
-      surface_detail::build_vertex_flags(s);
-      return;
-    }
-    surface_detail::build_components(s);
-    surface_detail::build_copies(s);
-  });
+  parallel_pair([&s] { surface_detail::build_vertex_flags(s); },
+                [&s] {
+                  surface_detail::build_components(s);
+                  surface_detail::build_copies(s);
+                });
 }
 
 FractureSurface primary_copy(const FractureSurface& s) {

@@ -48,4 +48,11 @@ void parallel_chunks(std::size_t n, std::size_t chunks, int threads, Fn&& fn) {
     if (e) std::rethrow_exception(e);
 }
 
+/// Runs first() and second() side by side on two new threads (the caller waits, as above).
+/// Rethrows first's exception before second's, as running them in turn would.
+template <class First, class Second>
+void parallel_pair(First&& first, Second&& second) {
+  parallel_chunks(2, 2, 2, [&](std::size_t part, std::size_t, std::size_t) { part == 0 ? first() : second(); });
+}
+
 }  // namespace fracref
