@@ -65,7 +65,7 @@ std::size_t keep_inside(const FractureSurface& s, const ExteriorSurface& b, cons
   std::vector<float> scratch;
   std::vector<float>& c = clearance ? *clearance : scratch;
   c.resize(x1.size(), -1.0f);
-  const std::size_t chunks = chunk_count(x1.size(), 2048);
+  const std::size_t chunks = chunk_count(x1.size(), 256);  // a query costs microseconds: small S splits too
   std::vector<std::size_t> reset(chunks, 0);
   parallel_chunks(
       x1.size(), chunks, kThreads, [&](std::size_t k, std::size_t begin, std::size_t end) {
@@ -163,7 +163,7 @@ void drop_crossing_rim_faces(RimFaces& rim, const std::vector<glm::dvec3>& p0_ri
     return false;
   };
   std::vector<char> keep(rim.triangles.size(), 0);
-  parallel_chunks(keep.size(), chunk_count(keep.size(), 512), kThreads,
+  parallel_chunks(keep.size(), chunk_count(keep.size(), 128), kThreads,
                   [&](std::size_t, std::size_t begin, std::size_t end) {
                     for (std::size_t k = begin; k < end; ++k) {
                       const auto& tri = rim.triangles[k];
