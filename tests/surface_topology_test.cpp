@@ -46,6 +46,19 @@ void expect_components_match_pieces(const FractureSurface& s) {
   EXPECT_EQ(std::set<int>(pieces.begin(), pieces.end()).size(), std::size_t(s.piece_count));
 }
 
+// The rounding must happen in an optimised build too: GCC 12.2 compiled dvec3(vec3(p)) to return
+// x and y unrounded (see stored_position).
+TEST(StoredPosition, RoundsEachCoordinateToFloat) {
+  volatile double in[3] = {0x1.fa5137d315a8fp-2, 0x1.3416fe12345p-1, -0x1.99eb3abcdefp-1};
+  const glm::dvec3 p(in[0], in[1], in[2]);
+  const glm::dvec3 q = stored_position(p);
+  for (int k = 0; k < 3; ++k) {
+    volatile float f = float(p[k]);
+    EXPECT_EQ(q[k], double(f)) << "coordinate " << k;
+    EXPECT_NE(q[k], p[k]) << "coordinate " << k;
+  }
+}
+
 TEST(SurfaceSheet, ThreeByThreeGridSplitsTwoPieces) {
   const FractureSurface s = example_sheet(3);
   ASSERT_EQ(validate(s), "");

@@ -79,7 +79,7 @@ MoveCheck prepare_move_check(const FractureSurface& s, const std::map<std::uint3
       const glm::vec3 start(s.positions[v]);
       boxes[f].expand(glm::dvec3(start));
       if (const auto it = offset.find(v); it != offset.end()) {
-        boxes[f].expand(glm::dvec3(glm::vec3(glm::dvec3(start) + it->second)));
+        boxes[f].expand(stored_position(glm::dvec3(start) + it->second));
         moved = true;
       }
     }

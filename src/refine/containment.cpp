@@ -119,7 +119,7 @@ class SplitBatch {
   EdgeEdit edge_edit(std::uint32_t e, float t, const glm::dvec3& q) {
     EdgeEdit edit{e, t, q, {}, {}, FaceGuard::kNoHit};
     const glm::uvec2 ab = s_.edges[e];
-    const glm::dvec3 stored = glm::dvec3(glm::vec3(q));  // as the split will place it
+    const glm::dvec3 stored = stored_position(q);  // as the split will place it
     const std::uint32_t m = guard().add_vertex(stored);
     edit.reach = glm::distance(stored, (1.0 - double(t)) * at(s_, ab.x) + double(t) * at(s_, ab.y)) * (1.0 + 1e-6);
     for (std::uint32_t k = s_.ef_offsets[e]; k < s_.ef_offsets[e + 1]; ++k) {
@@ -170,7 +170,7 @@ class SplitBatch {
   bool add_face(std::uint32_t f, const glm::vec3& w, const glm::dvec3& q) {
     if (busy_face(f)) return false;
     const glm::uvec4 face = s_.faces[f];
-    const std::uint32_t m = guard().add_vertex(glm::dvec3(glm::vec3(q)));
+    const std::uint32_t m = guard().add_vertex(stored_position(q));
     const TriangleIds n1 = {face.x, face.y, m}, n2 = {face.y, face.z, m}, n3 = {face.z, face.x, m};
     if (!guard().clear({n1, n2, n3}, {f})) return false;
     guard().accept({n1, n2, n3}, {f});
@@ -204,7 +204,7 @@ class SplitBatch {
 
 glm::dvec3 inside_target(const ExteriorSurface& b, const glm::dvec3& x, double margin) {
   const ClosestPoint cp = closest_point(b.bvh, x);
-  return glm::dvec3(glm::vec3(cp.point - margin * b.normal(cp.triangle)));
+  return stored_position(cp.point - margin * b.normal(cp.triangle));
 }
 
 // Distance to B is 1-Lipschitz: an edge between two inside vertices whose distances to B add up
@@ -371,8 +371,8 @@ std::size_t split_rim_chords_once(FractureSurface& s, RefinementTree& tree, cons
     Aabb region;  // the new faces' corners: the faces' on e and the new vertex (rounded as stored)
     for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k)
       for (int i = 0; i < 3; ++i) region.expand(at(s, s.faces[s.ef_faces[k]][i]));
-    region.expand(glm::dvec3(glm::vec3(c.q)));
-    region.expand(glm::dvec3(glm::vec3(c.mid)));
+    region.expand(stored_position(c.q));
+    region.expand(stored_position(c.mid));
     chords.push_back(c);
     regions.push_back(region);
   }

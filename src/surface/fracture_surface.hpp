@@ -144,6 +144,19 @@ PieceMesh piece_mesh(const FractureSurface& s, int piece);
 /// S's positions in double precision (w dropped), for exact predicates and distance queries.
 std::vector<glm::dvec3> double_positions(const FractureSurface& s);
 
+/// p rounded to single precision and back: where a vertex placed at p is stored (positions are
+/// floats), so that a test on p is a test on the stored vertex. Not spelled dvec3(vec3(p)): GCC
+/// 12.2's SLP vectorizer (Debian 12's compiler, at -O2 and -O3) drops a double -> float ->
+/// double round trip done on two neighbouring components at once and returns them unrounded.
+/// The float copies below are made to exist, so the rounding happens.
+inline glm::dvec3 stored_position(const glm::dvec3& p) {
+  float f[3] = {float(p.x), float(p.y), float(p.z)};
+#if defined(__GNUC__)
+  asm("" : "+m"(f));
+#endif
+  return glm::dvec3(f[0], f[1], f[2]);
+}
+
 /// S's faces as vertex-id triples (pieces dropped).
 std::vector<std::array<std::uint32_t, 3>> face_triangles(const FractureSurface& s);
 
