@@ -354,42 +354,43 @@ std::size_t split_rim_chords_once(FractureSurface& s, RefinementTree& tree, cons
   struct Chord {
     std::uint32_t edge;
     glm::dvec3 mid, q;
-    bool mid_inside;
+    bool mid_inside, q_inside;
   };
   std::vector<Chord> chords;
-  std::vector<Aabb> regions;
   for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
     const glm::uvec2 ab = s.edges[e];
-    if (s.edge_special[e] == kEdgeBoundary || !(s.vertex_flags[ab.x] & kVertexBoundary) ||
-        !(s.vertex_flags[ab.y] & kVertexBoundary))
-      continue;
-    Chord c{e, 0.5 * (at(s, ab.x) + at(s, ab.y)), {}, false};
+    if (s.edge_special[e] != kEdgeBoundary && (s.vertex_flags[ab.x] & kVertexBoundary) &&
+        (s.vertex_flags[ab.y] & kVertexBoundary))
+      chords.push_back({e, 0.5 * (at(s, ab.x) + at(s, ab.y)), {}, false, false});
+  }
+  // Each chord's queries against B on its own, side by side (a serial loop was a tenth of a pass).
+  std::vector<Aabb> regions(chords.size());
+  auto place = [&](Chord& c, Aabb& region) {
+    const glm::uvec2 ab = s.edges[c.edge];
     const double margin = std::min(o.margin * o.scale, 0.1 * glm::distance(at(s, ab.x), at(s, ab.y)));
     c.mid_inside = b.contains(c.mid);
     c.q = c.mid;
     if (!c.mid_inside || b.squared_distance(c.mid) < margin * margin) c.q = inside_target(b, c.mid, margin);
-    Aabb region;  // the new faces' corners: the faces' on e and the new vertex (rounded as stored)
-    for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k)
+    c.q_inside = b.contains(c.q);
+    // The new faces' corners: the faces' on the chord and the new vertex (rounded as stored).
+    for (std::uint32_t k = s.ef_offsets[c.edge]; k < s.ef_offsets[c.edge + 1]; ++k)
       for (int i = 0; i < 3; ++i) region.expand(at(s, s.faces[s.ef_faces[k]][i]));
     region.expand(stored_position(c.q));
     region.expand(stored_position(c.mid));
-    chords.push_back(c);
-    regions.push_back(region);
-  }
+  };
+  parallel_chunks(chords.size(), chunk_count(chords.size(), 16), kThreads,
+                  [&](std::size_t, std::size_t begin, std::size_t end) {
+                    for (std::size_t k = begin; k < end; ++k) place(chords[k], regions[k]);
+                  });
   // Each chord's splits to try, in order: moved inward (the new faces bend and can cut a
   // neighbouring face at the rim), then at the midpoint itself. The first ones are tested against
   // S side by side, then all are offered in chord order as a serial loop would (a midpoint split
   // is tested when it is offered: most chords never need it).
-  std::vector<char> q_inside(chords.size(), 0);
-  parallel_chunks(chords.size(), chunk_count(chords.size(), 16), kThreads,
-                  [&](std::size_t, std::size_t begin, std::size_t end) {
-                    for (std::size_t k = begin; k < end; ++k) q_inside[k] = b.contains(chords[k].q);
-                  });
   SplitBatch batch(s, std::move(regions));
   std::vector<std::optional<SplitBatch::EdgeEdit>> inward(chords.size());
   std::vector<SplitBatch::EdgeEdit*> ahead;
   for (std::size_t k = 0; k < chords.size(); ++k)
-    if (q_inside[k]) ahead.push_back(&inward[k].emplace(batch.edge_edit(chords[k].edge, 0.5f, chords[k].q)));
+    if (chords[k].q_inside) ahead.push_back(&inward[k].emplace(batch.edge_edit(chords[k].edge, 0.5f, chords[k].q)));
   batch.find_hits(ahead, kThreads);
   for (std::size_t k = 0; k < chords.size(); ++k) {
     const Chord& c = chords[k];
