@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-#include <system_error>
-#include <thread>
 
 #include "field/materials.hpp"
 #include "util/error.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 namespace {
@@ -252,20 +251,10 @@ Grid3 sample_strength(const FieldSpec& spec, glm::dvec3 bbox_min, glm::dvec3 bbo
   const PerlinNoise noise(spec.seed);
   const auto material = detail::make_material(spec, noise, frame);
   const unsigned n = std::clamp(threads, 1u, resolution.z);
-  // Thread t fills the z-slices t, t+n, ...; the slices of a thread that cannot be started are
-  // filled here, so the values never depend on how many threads ran. With more than one, the
-  // caller waits rather than fills (see util/parallel.hpp: a thread started beside a busy caller
-  // can share its core).
-  std::vector<std::thread> workers;
-  unsigned started = n > 1 ? 0 : 1;
-  try {
-    for (; started < n; ++started)
-      workers.emplace_back(fill_slices, std::ref(grid), std::cref(*material), started, n);
-  } catch (const std::system_error&) {
-  }
-  for (unsigned t = started; t < n; ++t) fill_slices(grid, *material, t, n);
-  if (n == 1) fill_slices(grid, *material, 0, n);
-  for (std::thread& w : workers) w.join();
+  // Chunk t fills the z-slices t, t+n, ... (interleaved, so that each thread samples every part of the box);
+  // each slice is computed on its own, so the values never depend on how many threads ran.
+  parallel_chunks(n, n, int(n),
+                  [&](std::size_t t, std::size_t, std::size_t) { fill_slices(grid, *material, unsigned(t), n); });
   return grid;
 }
 

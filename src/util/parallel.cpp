@@ -3,6 +3,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -31,7 +32,11 @@ class Pool {
     std::unique_lock<std::mutex> busy(run_, std::try_to_lock);
     if (!busy.owns_lock()) return false;
     std::unique_lock<std::mutex> lock(m_);
-    while (threads_.size() < std::size_t(workers)) threads_.emplace_back([this] { loop(); });
+    try {
+      while (threads_.size() < std::size_t(workers)) threads_.emplace_back([this] { loop(); });
+    } catch (const std::system_error&) {
+      return false;  // the caller starts what it can, and does the rest itself
+    }
     work_ = work, context_ = context;
     wanted_ = workers, taken_ = 0, pending_ = workers;
     ++generation_;

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstddef>
 #include <exception>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -54,15 +55,17 @@ void parallel_chunks(std::size_t n, std::size_t chunks, int threads, Fn&& fn) {
   // often shared its core for the whole call (the flow kernels ran at half speed: both halves
   // concurrent, each twice as long), where threads started beside a waiting caller did not.
   // Threads kept between calls: starting and joining two cost ~60 us a call there, waking two
-  // kept ones ~22 us (the clay's refinement makes ~300 calls).
-  if (parallel_detail::run_on_pool(workers, [](void* w) { (*static_cast<decltype(work)*>(w))(); }, &work)) {
-    for (auto& e : errors)
-      if (e) std::rethrow_exception(e);
-    return;
+  // kept ones ~22 us (the clay's refinement makes ~300 calls). Threads that cannot be started
+  // leave their chunks to the caller, so every chunk still runs.
+  if (!parallel_detail::run_on_pool(workers, [](void* w) { (*static_cast<decltype(work)*>(w))(); }, &work)) {
+    std::vector<std::thread> pool;
+    try {
+      for (int w = 0; w < workers; ++w) pool.emplace_back(work);
+    } catch (const std::system_error&) {
+    }
+    for (auto& t : pool) t.join();
+    if (pool.size() < std::size_t(workers)) work();
   }
-  std::vector<std::thread> pool;
-  for (int w = 0; w < workers; ++w) pool.emplace_back(work);
-  for (auto& t : pool) t.join();
   for (auto& e : errors)
     if (e) std::rethrow_exception(e);
 }
