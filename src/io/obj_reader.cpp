@@ -161,16 +161,16 @@ void ObjParser::face() {
 std::int64_t ObjParser::reference(std::string_view token, std::string_view part, IndexKind& kind) {
   std::int64_t index = 0;
   std::string why;
-  const std::string what = std::string(kind.what) + " index ";
-  if (!parse_int64(part, index, why)) throw error(what + quote_token(part) + " " + why + " (in " + quote_token(token) + ")");
-  if (index == 0) throw error(what + "0 is invalid (OBJ indices start at 1)");
+  const auto what = [&] { return std::string(kind.what) + " index "; };  // built only for an error
+  if (!parse_int64(part, index, why)) throw error(what() + quote_token(part) + " " + why + " (in " + quote_token(token) + ")");
+  if (index == 0) throw error(what() + "0 is invalid (OBJ indices start at 1)");
   if (index < 0) {
     if (-index > static_cast<std::int64_t>(kind.count))
-      throw error(what + std::to_string(index) + " reaches before the first " + kind.what + " (" +
+      throw error(what() + std::to_string(index) + " reaches before the first " + kind.what + " (" +
                   std::to_string(kind.count) + " defined so far)");
     return static_cast<std::int64_t>(kind.count) + index + 1;
   }
-  if (index > kMaxIndex) throw error(what + std::to_string(index) + " is out of range");
+  if (index > kMaxIndex) throw error(what() + std::to_string(index) + " is out of range");
   if (index > kind.max_seen) {
     kind.max_seen = index;
     kind.max_line = line_;

@@ -21,10 +21,21 @@ std::string read_whole_file(const fs::path& path) {
   if (fs::is_directory(status)) throw InputError(name + ": cannot open: it is a directory");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(name + ": cannot open for reading: " + std::strerror(errno));
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
+  std::string text;
+  // Read at once when the size is known (a stream's copy was a tenth of an OBJ's read); a pipe
+  // or another file without one is read through the stream.
+  const std::streamoff size = in.seekg(0, std::ios::end) ? std::streamoff(in.tellg()) : std::streamoff(-1);
+  if (size >= 0 && in.seekg(0, std::ios::beg)) {
+    text.resize(std::size_t(size));
+    in.read(text.data(), size);
+    text.resize(std::size_t(in.gcount()));
+  } else {
+    in.clear();
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    text = std::move(bytes).str();
+  }
   if (in.bad()) throw InputError(name + ": read error: " + std::strerror(errno));
-  std::string text = std::move(bytes).str();
   if (text.empty()) throw InputError(name + ": file is empty");
   return text;
 }
@@ -46,8 +57,9 @@ bool LineCursor::next(std::string_view& line) {
 }
 
 namespace {
-constexpr std::string_view kBlanks = " \t\r\v\f";
-bool is_blank(char c) { return kBlanks.find(c) != std::string_view::npos; }
+// Compared directly: a search of a string of blanks per character (memchr) was a quarter of the
+// time to read a 12K-triangle OBJ.
+bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 }  // namespace
 
 void split_tokens(std::string_view line, std::vector<std::string_view>& out) {
