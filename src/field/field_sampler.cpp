@@ -42,10 +42,6 @@ struct AxisLookup {
   double w[2];
 };
 
-AxisLookup axis_lookup(const AxisSample& s, std::size_t stride) {
-  return {{s.i[0] * stride, s.i[1] * stride}, {1 - s.t, s.t}};
-}
-
 // trilinear's arithmetic, term for term, on prepared lookups.
 double trilinear(const float* v, const AxisLookup& x, const AxisLookup& y, const AxisLookup& z) {
   double acc = 0.0;
@@ -56,38 +52,36 @@ double trilinear(const float* v, const AxisLookup& x, const AxisLookup& y, const
   return acc;
 }
 
-// A level's axis lookups at every base-grid coordinate of one axis, shifted by -h, 0 and +h
-// (the level's cell): the central differences of all base nodes share them.
-std::vector<std::array<AxisLookup, 3>> axis_table(const Grid3& level, const Grid3& base, int a) {
-  const std::size_t nx = level.dims.x, stride = a == 0 ? 1 : (a == 1 ? nx : nx * level.dims.y);
-  std::vector<std::array<AxisLookup, 3>> out(base.dims[a]);
-  for (unsigned k = 0; k < base.dims[a]; ++k) {
-    const double p = base.origin[a] + base.cell * double(k);
-    out[k] = {axis_lookup(axis_sample(level, a, p - level.cell), stride), axis_lookup(axis_sample(level, a, p), stride),
-              axis_lookup(axis_sample(level, a, p + level.cell), stride)};
+// Level l's lookups at every base coordinate k of axis a: the level coordinate k / 2^l (exact),
+// clamped into the level, as axis_sample clamps.
+std::vector<AxisLookup> axis_table(const Grid3& level, unsigned base_n, unsigned shift, int a) {
+  const unsigned n = level.dims[a];
+  const std::size_t stride = a == 0 ? 1 : (a == 1 ? level.dims.x : std::size_t(level.dims.x) * level.dims.y);
+  std::vector<AxisLookup> out(base_n);
+  for (unsigned k = 0; k < base_n; ++k) {
+    const double c = clamp_coord(std::ldexp(double(k), -int(shift)), n);
+    const unsigned i0 = n >= 2 ? std::min<unsigned>(unsigned(std::floor(c)), n - 2) : 0;
+    const double t = n >= 2 ? c - i0 : 0.0;
+    out[k] = {{i0 * stride, (n >= 2 ? i0 + 1 : 0) * stride}, {1 - t, t}};
   }
   return out;
 }
 
-// ψ̃ and the averaged gradient at base node (x, y, z), as documented for precompute_field_gradient.
-using LookupTables = std::vector<std::array<std::vector<std::array<AxisLookup, 3>>, 3>>;  // [level][axis][coord]
-
-glm::vec4 node_field(const std::vector<Grid3>& pyramid, const LookupTables& tables, unsigned x, unsigned y, unsigned z) {
-  glm::dvec3 grad(0.0);
-  double value = 0.0;
-  for (std::size_t l = 0; l < pyramid.size(); ++l) {
-    const float* v = pyramid[l].values.data();
-    const double h = pyramid[l].cell;
-    const std::array<AxisLookup, 3>& sx = tables[l][0][x];
-    const std::array<AxisLookup, 3>& sy = tables[l][1][y];
-    const std::array<AxisLookup, 3>& sz = tables[l][2][z];
-    value += trilinear(v, sx[1], sy[1], sz[1]);
-    grad.x += (trilinear(v, sx[2], sy[1], sz[1]) - trilinear(v, sx[0], sy[1], sz[1])) / (2.0 * h);
-    grad.y += (trilinear(v, sx[1], sy[2], sz[1]) - trilinear(v, sx[1], sy[0], sz[1])) / (2.0 * h);
-    grad.z += (trilinear(v, sx[1], sy[1], sz[2]) - trilinear(v, sx[1], sy[1], sz[0])) / (2.0 * h);
-  }
-  const double levels = double(pyramid.size());
-  return glm::vec4(float(value / levels), glm::vec3(grad / levels));
+// ψ_l at every base node: level l trilinear at the node's level coordinates.
+std::vector<double> level_at_base_nodes(const Grid3& level, const Grid3& base, unsigned shift) {
+  const std::vector<AxisLookup> tx = axis_table(level, base.dims.x, shift, 0), ty = axis_table(level, base.dims.y, shift, 1),
+                                tz = axis_table(level, base.dims.z, shift, 2);
+  std::vector<double> out(base.size());
+  const float* v = level.values.data();
+  const std::size_t rows = std::size_t(base.dims.y) * base.dims.z;
+  parallel_chunks(rows, chunk_count(rows, 64), 2, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t r = begin; r < end; ++r) {
+      const std::size_t y = r % base.dims.y, z = r / base.dims.y;
+      double* row = out.data() + r * base.dims.x;
+      for (unsigned x = 0; x < base.dims.x; ++x) row[x] = trilinear(v, tx[x], ty[y], tz[z]);
+    }
+  });
+  return out;
 }
 
 }  // namespace
@@ -96,22 +90,42 @@ double sample_trilinear(const Grid3& grid, const glm::dvec3& p) {
   return trilinear(grid, axis_sample(grid, 0, p.x), axis_sample(grid, 1, p.y), axis_sample(grid, 2, p.z));
 }
 
-// The same arithmetic as sample_trilinear at p and p ± h e_a (a shift along one axis leaves the
-// other coordinates exactly as they are), with each axis's lookups computed once per level.
+// Level l's cell is 2^l base cells and its origin the base's, so base node k sits at level
+// coordinate k / 2^l, and k ± 2^l at that ± 1: the central differences' samples are the
+// interpolated values at base nodes k ± 2^l, clamped to the base grid (a level never reaches past
+// the base's last node, so clamping there gives the clamped level coordinate). Each level is
+// interpolated once per base node instead of seven times.
 FieldGrid4 precompute_field_gradient(const std::vector<Grid3>& pyramid) {
   const Grid3& base = pyramid.front();
   FieldGrid4 out{base.dims, base.origin, base.cell, std::vector<glm::vec4>(base.size())};
-  LookupTables tables(pyramid.size());
-  for (std::size_t l = 0; l < pyramid.size(); ++l)
-    for (int a = 0; a < 3; ++a) tables[l][a] = axis_table(pyramid[l], base, a);
-  auto slab = [&](unsigned z0, unsigned z1) {
-    for (unsigned z = z0; z < z1; ++z)
-      for (unsigned y = 0; y < base.dims.y; ++y)
-        for (unsigned x = 0; x < base.dims.x; ++x) out.values[base.index(x, y, z)] = node_field(pyramid, tables, x, y, z);
-  };
-  // Each node is computed on its own, so splitting the z range cannot change a value.
-  const unsigned mid = base.dims.z / 2;
-  parallel_pair([&] { slab(0u, mid); }, [&] { slab(mid, base.dims.z); });
+  std::vector<std::vector<double>> at_nodes(pyramid.size());
+  for (std::size_t l = 0; l < pyramid.size(); ++l) at_nodes[l] = level_at_base_nodes(pyramid[l], base, unsigned(l));
+  const glm::ivec3 n(base.dims);
+  const std::size_t rows = std::size_t(base.dims.y) * base.dims.z;
+  parallel_chunks(rows, chunk_count(rows, 64), 2, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t r = begin; r < end; ++r) {
+      const int y = int(r % base.dims.y), z = int(r / base.dims.y);
+      for (int x = 0; x < n.x; ++x) {
+        glm::dvec3 grad(0.0);
+        double value = 0.0;
+        for (std::size_t l = 0; l < pyramid.size(); ++l) {
+          const std::vector<double>& f = at_nodes[l];
+          const int step = 1 << l;
+          const double h = pyramid[l].cell;
+          auto at = [&](int i, int j, int k) {
+            return f[base.index(unsigned(std::clamp(i, 0, n.x - 1)), unsigned(std::clamp(j, 0, n.y - 1)),
+                                unsigned(std::clamp(k, 0, n.z - 1)))];
+          };
+          value += f[base.index(unsigned(x), unsigned(y), unsigned(z))];
+          grad.x += (at(x + step, y, z) - at(x - step, y, z)) / (2.0 * h);
+          grad.y += (at(x, y + step, z) - at(x, y - step, z)) / (2.0 * h);
+          grad.z += (at(x, y, z + step) - at(x, y, z - step)) / (2.0 * h);
+        }
+        const double levels = double(pyramid.size());
+        out.values[base.index(unsigned(x), unsigned(y), unsigned(z))] = glm::vec4(float(value / levels), glm::vec3(grad / levels));
+      }
+    }
+  });
   return out;
 }
 
