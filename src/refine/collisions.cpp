@@ -60,6 +60,8 @@ bool keep_vertex_inside(const ExteriorSurface& b, const glm::vec4& x0, glm::vec4
   return true;
 }
 
+// Without a clearance to keep, a vertex that stays put is not tested: it crosses nothing, and its
+// distance would only have been kept.
 std::size_t keep_inside(const FractureSurface& s, const ExteriorSurface& b, const std::vector<glm::vec4>& x0,
                         std::vector<glm::vec4>& x1, std::vector<float>* clearance) {
   std::vector<float> scratch;
@@ -70,7 +72,9 @@ std::size_t keep_inside(const FractureSurface& s, const ExteriorSurface& b, cons
   parallel_chunks(
       x1.size(), chunks, kThreads, [&](std::size_t k, std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i)
-          if (!(s.vertex_flags[i] & kVertexBoundary) && keep_vertex_inside(b, x0[i], x1[i], c[i])) ++reset[k];
+          if (!(s.vertex_flags[i] & kVertexBoundary) && (clearance || x0[i] != x1[i]) &&
+              keep_vertex_inside(b, x0[i], x1[i], c[i]))
+            ++reset[k];
       });
   return std::accumulate(reset.begin(), reset.end(), std::size_t(0));
 }

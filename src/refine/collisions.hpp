@@ -34,7 +34,7 @@ void apply_boundary_constraint(const FractureSurface& s, const ExteriorSurface& 
 /// back cannot change, ends the rounds). `clearance`, when given, holds per vertex a lower bound
 /// of its distance to B at x0 (negative: unknown); it is resized to the vertex count (new entries
 /// unknown) and updated to bound the distance at x1, so the costly inside test runs only for
-/// vertices that may have reached B.
+/// vertices that may have reached B; without it, vertices that stay put (x1 == x0) are not tested.
 /// \pre x0 collision-free, x0.size() == x1.size() == s.positions.size().
 /// \return the number of vertices reset.
 std::size_t apply_collision_constraints(const FractureSurface& s, const ExteriorSurface& exterior,

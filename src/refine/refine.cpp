@@ -484,18 +484,17 @@ Refiner::ElementMotion Refiner::element_motion(const SplitRequest& r, const glm:
 
 // conform_boundary's splits move each new vertex from its chord's midpoint onto B: that motion is
 // checked like a flow step's, on a preview of S after the splits, and held-back splits dropped.
+// Conforming comes before the first flow step, when no vertex's clearance is known yet: the trial
+// has none to inherit, and keeps none (its other vertices stay put and need no inside test).
 void Refiner::drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::vector<glm::vec3>& start,
                                         std::vector<glm::vec3>& target) const {
   if (chosen.empty()) return;
   const std::size_t first_new = s_.positions.size();
-  RefinementTree parents;
-  const FractureSurface trial = split_preview(s_, chosen, start, &parents);
+  const FractureSurface trial = split_preview(s_, chosen, start, nullptr);
   std::vector<glm::vec4> x0 = trial.positions, x1 = trial.positions;
   for (std::size_t k = 0; k < chosen.size(); ++k) x1[first_new + k] = glm::vec4(target[k], 1.0f);
   apply_boundary_constraint(trial, b_, x0, x1);
-  std::vector<float> clearance = clearance_;
-  inherit_clearance(trial, parents, clearance);
-  if (o_.collisions) apply_collision_constraints(trial, b_, x0, x1, &clearance);
+  if (o_.collisions) apply_collision_constraints(trial, b_, x0, x1, nullptr);
   std::size_t kept = 0;
   for (std::size_t k = 0; k < chosen.size(); ++k) {
     if (x1[first_new + k] != glm::vec4(target[k], 1.0f)) continue;  // held back: drop this split
