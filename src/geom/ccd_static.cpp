@@ -12,6 +12,15 @@ namespace fracref {
 
 using namespace ccd_detail;
 
+namespace {
+
+// Leaves of 16 in every tree of the search against B: the clay's exterior (12.8K triangles) builds
+// in half the time of leaves of 4, and the step searches take a tenth less on the clay, wall and
+// bunny (medians of 6, 3 and 5 runs). The pairs found are sorted, so the trees do not show.
+constexpr std::uint32_t kStaticLeaf = 16;
+
+}  // namespace
+
 StaticCcdMesh prepare_static_ccd_mesh(const std::vector<dvec3>& positions, const Tris& triangles, double min_distance,
                                       int threads) {
   check_positions(positions, "static");
@@ -22,6 +31,7 @@ StaticCcdMesh prepare_static_ccd_mesh(const std::vector<dvec3>& positions, const
   m.min_distance = min_distance;
   const double grow = std::max(0.0, min_distance);
   BvhOptions tree_options;
+  tree_options.leaf_size = kStaticLeaf;
   tree_options.threads = threads;
   m.vertices = used_vertices(triangles, positions.size());
   m.edges = unique_edges(triangles);
@@ -50,6 +60,7 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
   check_triangles(triangles, x0.size(), "moving");
   const CcdOptions& ccd = options.ccd;
   BvhOptions tree_options;
+  tree_options.leaf_size = kStaticLeaf;
   tree_options.threads = options.threads;
   const auto& s = m.positions;
   const Tris& static_triangles = m.triangles;
