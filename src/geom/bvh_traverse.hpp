@@ -28,7 +28,7 @@ inline double longest_side(const Aabb& box) {
 
 // Splits one node pair into the pairs of its children; self pairs (x, x) split into (l, l),
 // (r, r), (l, r). Returns false for two leaves.
-inline bool expand(const Bvh& a, const Bvh& b, bool self, NodePair p, std::vector<NodePair>& out) {
+[[gnu::always_inline]] inline bool expand(const Bvh& a, const Bvh& b, bool self, NodePair p, std::vector<NodePair>& out) {
   const BvhNode& x = a.nodes[p.a];
   const BvhNode& y = b.nodes[p.b];
   if (x.count > 0 && y.count > 0) return false;
