@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <random>
 
 #include "geom/bvh.hpp"
@@ -37,6 +38,30 @@ fracref::TriangleSoup random_soup(std::mt19937_64& rng, int n) {
     m.triangles.push_back({b, b + 1, b + 2});
   }
   return m;
+}
+
+// BoxTest::float_rounded: every exactly overlapping pair, and also boxes apart by less than their
+// float bounds' widening (2^-22 of the coordinates, float_bounds.hpp), but not boxes farther apart.
+TEST(GeomBvh, FloatRoundedPairsAreTheExactOnesAndThoseWithinRounding) {
+  std::mt19937_64 rng(9);
+  std::vector<Aabb> boxes = random_boxes(rng, 400, 0.9);
+  boxes.push_back({dvec3(20.0), dvec3(21.0)});
+  boxes.push_back({dvec3(21.0 + 1e-12, 20.0, 20.0), dvec3(22.0, 21.0, 21.0)});  // apart by 1e-12
+  boxes.push_back({dvec3(30.0), dvec3(31.0)});
+  boxes.push_back({dvec3(31.0 + 1e-3, 30.0, 30.0), dvec3(32.0, 31.0, 31.0)});  // apart by ~100 floats
+  const Bvh tree = fracref::build_bvh(boxes, {4});
+  using Pair = std::pair<std::uint32_t, std::uint32_t>;
+  auto collect = [](Pair p, std::vector<Pair>& out) { out.push_back(p); };
+  auto exact = fracref::collect_overlaps<Pair>(tree, tree, true, 2, [&](std::uint32_t i, std::uint32_t j, std::vector<Pair>& out) { collect({i, j}, out); });
+  auto rounded = fracref::collect_overlaps<Pair, fracref::BoxTest::float_rounded>(
+      tree, tree, true, 2, [&](std::uint32_t i, std::uint32_t j, std::vector<Pair>& out) { collect({i, j}, out); });
+  std::sort(exact.begin(), exact.end());
+  std::sort(rounded.begin(), rounded.end());
+  EXPECT_EQ(exact, fracref::self_overlapping_pairs(tree, 2));
+  std::vector<Pair> extra;
+  std::set_difference(rounded.begin(), rounded.end(), exact.begin(), exact.end(), std::back_inserter(extra));
+  EXPECT_EQ(extra, (std::vector<Pair>{{400, 401}}));
+  EXPECT_TRUE(std::includes(rounded.begin(), rounded.end(), exact.begin(), exact.end()));
 }
 
 TEST(GeomBvh, BoxQueriesAndPairsMatchBruteForce) {

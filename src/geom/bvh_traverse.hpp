@@ -15,6 +15,11 @@
 
 namespace fracref {
 
+/// What a traversal's pairs satisfy: their boxes overlap, or (cheaper: no double test after the
+/// float one) their boxes rounded outward to float do, a superset by at most the rounding of the
+/// boxes (a few pairs in ten thousand), for tests that decide each pair exactly anyway.
+enum class BoxTest { exact, float_rounded };
+
 namespace geom_detail {
 
 struct NodePair {
@@ -81,9 +86,9 @@ inline unsigned float_overlap_mask(const FloatLeafBoxes& f, std::uint32_t base, 
 }
 
 // Every pair of a leaf's item and b leaf's item whose boxes overlap, in the order of a plain
-// double loop: a float test of each a box against b's boxes kLanes at a time, then the exact
-// double test of those it lets through.
-template <class Visit>
+// double loop: a float test of each a box against b's boxes kLanes at a time, then (kTest exact)
+// the double test of those it lets through.
+template <BoxTest kTest, class Visit>
 void visit_leaves(const Bvh& a, const Bvh& b, bool self, NodePair p, Visit& visit) {
   constexpr std::uint32_t kLanes = FloatLeafBoxes::kLanes;
   const BvhNode& x = a.nodes[p.a];
@@ -100,7 +105,7 @@ void visit_leaves(const Bvh& a, const Bvh& b, bool self, NodePair p, Visit& visi
       while (mask != 0) {
         const std::uint32_t l = base + std::uint32_t(__builtin_ctz(mask));
         mask &= mask - 1u;
-        if (!box.overlaps(b.leaf_boxes[l])) continue;
+        if (kTest == BoxTest::exact && !box.overlaps(b.leaf_boxes[l])) continue;
         const std::uint32_t j = b.items[l];
         if (self)
           visit(std::min(i, j), std::max(i, j));
@@ -116,24 +121,25 @@ inline bool worth_visiting(const Bvh& a, const Bvh& b, bool self, NodePair p) {
   return (self && p.a == p.b) || a.nodes[p.a].box.overlaps(b.nodes[p.b].box);
 }
 
-template <class Visit>
+template <BoxTest kTest, class Visit>
 void traverse_from(const Bvh& a, const Bvh& b, bool self, NodePair start, Visit& visit) {
   std::vector<NodePair> stack{start};
   while (!stack.empty()) {
     const NodePair p = stack.back();
     stack.pop_back();
     if (!worth_visiting(a, b, self, p)) continue;
-    if (!expand(a, b, self, p, stack)) visit_leaves(a, b, self, p, visit);
+    if (!expand(a, b, self, p, stack)) visit_leaves<kTest>(a, b, self, p, visit);
   }
 }
 
 }  // namespace geom_detail
 
 /// Calls test(i, j, out) for every pair of items with overlapping (closed) boxes: i in `a` and
-/// j in `b`, or, when `self` (b must then be a), every unordered pair once as i < j. The work
+/// j in `b`, or, when `self` (b must then be a), every unordered pair once as i < j; with
+/// BoxTest::float_rounded, for every pair whose boxes rounded outward to float overlap. The work
 /// is split into tasks run on `threads` threads; the returned concatenation of the `out`
 /// vectors has a deterministic order (independent of `threads`) but is not sorted.
-template <class R, class Test>
+template <class R, BoxTest kTest = BoxTest::exact, class Test>
 std::vector<R> collect_overlaps(const Bvh& a, const Bvh& b, bool self, int threads, Test&& test) {
   using geom_detail::NodePair;
   if (a.nodes.empty() || b.nodes.empty()) return {};
@@ -152,7 +158,7 @@ std::vector<R> collect_overlaps(const Bvh& a, const Bvh& b, bool self, int threa
   std::vector<std::vector<R>> parts(tasks.size());
   parallel_chunks(tasks.size(), tasks.size(), threads, [&](std::size_t c, std::size_t, std::size_t) {
     auto visit = [&](std::uint32_t i, std::uint32_t j) { test(i, j, parts[c]); };
-    geom_detail::traverse_from(a, b, self, tasks[c], visit);
+    geom_detail::traverse_from<kTest>(a, b, self, tasks[c], visit);
   });
   std::vector<R> out;
   for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());

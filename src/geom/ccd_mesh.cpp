@@ -293,7 +293,7 @@ struct SlotTree {
 // test(id in a, its vertices, id in b, its vertices, found).
 template <std::size_t A, std::size_t B, class Test>
 std::vector<Examined> slot_pairs(const SlotTree<A>& a, const SlotTree<B>& b, bool self, int threads, const Test& test) {
-  return collect_overlaps<Examined>(a.tree, b.tree, self, threads,
+  return collect_overlaps<Examined, BoxTest::float_rounded>(a.tree, b.tree, self, threads,
                                     [&](std::uint32_t i, std::uint32_t j, std::vector<Examined>& found) {
                                       const auto& ea = a.slots.elements[i];
                                       const auto& eb = b.slots.elements[j];

@@ -113,7 +113,7 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
     if (k == 2) moving_edge_tree = build_bvh(swept_boxes(x0, x1, edges, 0.0), one);
   });
   // Moving vertices against static triangles.
-  auto out = collect_overlaps<CcdPair>(
+  auto out = collect_overlaps<CcdPair, BoxTest::float_rounded>(
       moving_vertex_tree, m.triangle_tree, false, options.threads,
       [&](std::uint32_t k, std::uint32_t t, std::vector<CcdPair>& found) {
         const std::uint32_t v = moving_vertices[k][0];
@@ -123,7 +123,7 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
           found.push_back(vertex_pair(CcdKind::vertex_triangle, v, tri, t));
       });
   // Static vertices against moving triangles.
-  auto tv = collect_overlaps<CcdPair>(
+  auto tv = collect_overlaps<CcdPair, BoxTest::float_rounded>(
       m.vertex_tree, moving_tri_tree, false, options.threads,
       [&](std::uint32_t k, std::uint32_t i, std::vector<CcdPair>& found) {
         const std::uint32_t v = m.vertices[k][0], t = moving_triangles[i];
@@ -134,7 +134,7 @@ std::vector<CcdPair> find_step_collisions_with_static(const std::vector<dvec3>& 
           found.push_back(vertex_pair(CcdKind::triangle_vertex, v, tri, t));
       });
   // Moving edges against static edges.
-  auto ee = collect_overlaps<CcdPair>(
+  auto ee = collect_overlaps<CcdPair, BoxTest::float_rounded>(
       moving_edge_tree, m.edge_tree, false, options.threads,
       [&](std::uint32_t i, std::uint32_t j, std::vector<CcdPair>& found) {
         const Edge& e = edges[i];

@@ -159,11 +159,11 @@ class FlipCheck {
   // The flips to undo for the first round: each whose new faces meet a face of S that is not
   // flipped, and the later of two whose new faces meet (a flip's own two faces included); sorted.
   std::vector<std::int32_t> first_round() const {
-    std::vector<std::int32_t> out = collect_overlaps<std::int32_t>(
+    std::vector<std::int32_t> out = collect_overlaps<std::int32_t, BoxTest::float_rounded>(
         flip_tree_, flip_tree_, true, threads_, [&](std::uint32_t k, std::uint32_t l, std::vector<std::int32_t>& found) {
           if (flips_meet(k, l)) found.push_back(std::int32_t(std::max(flip_ids_[k], flip_ids_[l])));
         });
-    const std::vector<std::int32_t> rest = collect_overlaps<std::int32_t>(
+    const std::vector<std::int32_t> rest = collect_overlaps<std::int32_t, BoxTest::float_rounded>(
         flip_tree_, other_tree_, false, threads_, [&](std::uint32_t k, std::uint32_t j, std::vector<std::int32_t>& found) {
           if (flip_meets(k, j)) found.push_back(std::int32_t(flip_ids_[k]));
         });
