@@ -42,8 +42,9 @@ struct BvhNode {
 
 /// The leaf boxes again in single precision, rounded outward (each contains its double box), one
 /// array per bound and axis in leaf order and padded with kLanes empty boxes: the traversals test
-/// a box against a leaf's boxes kLanes at a time this way, and only the boxes that pass it
-/// exactly in double, so their answers are those of the double boxes alone.
+/// a box against a leaf's boxes kLanes at a time this way, then (unless the caller takes the
+/// rounded boxes' answers, BoxTest::float_rounded) test those that pass exactly in double, so
+/// their answers are those of the double boxes alone.
 struct FloatLeafBoxes {
   static constexpr std::uint32_t kLanes = 8;
   std::vector<float> lo[3], hi[3];
