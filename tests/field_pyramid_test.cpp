@@ -236,6 +236,25 @@ TEST(FieldGradient, MatchesTheWorldSamples) {
       }
 }
 
+// The index-space sampling needs levels laid out as the pyramid builds them: anything else is
+// refused, not sampled wrongly.
+TEST(FieldGradient, RejectsLevelsNotLaidOutAsThePyramid) {
+  PyramidOptions po;
+  po.levels = 3;
+  const std::vector<Grid3> pyramid = build_pyramid_cpu(random_grid({9, 8, 7}, 3), po);
+  EXPECT_NO_THROW(precompute_field_gradient(pyramid));
+  EXPECT_THROW(precompute_field_gradient({}), InputError);
+  std::vector<Grid3> bad = pyramid;
+  bad[1].cell *= 1.5;
+  EXPECT_THROW(precompute_field_gradient(bad), InputError);
+  bad = pyramid;
+  bad[2].origin.x += 0.25;
+  EXPECT_THROW(precompute_field_gradient(bad), InputError);
+  bad = pyramid;
+  bad[2] = bad[1];
+  EXPECT_THROW(precompute_field_gradient(bad), InputError);
+}
+
 TEST(Pyramid, RejectsBadInput) {
   const Grid3 g = random_grid({4, 4, 4}, 1);
   EXPECT_THROW(build_pyramid_cpu(g, {.levels = 0}), InputError);

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
 
+#include "field/pyramid.hpp"
+#include "util/error.hpp"
 #include "util/parallel.hpp"
 
 namespace fracref {
@@ -67,6 +70,19 @@ std::vector<AxisLookup> axis_table(const Grid3& level, unsigned base_n, unsigned
   return out;
 }
 
+// The index-space sampling below holds only for levels laid out as the pyramid builds them.
+void check_levels(const std::vector<Grid3>& pyramid) {
+  const Grid3& base = pyramid.front();
+  const std::vector<glm::uvec3> dims = pyramid_level_dims(base.dims, int(pyramid.size()));
+  for (std::size_t l = 0; l < pyramid.size(); ++l) {
+    const Grid3& level = pyramid[l];
+    if (level.dims != dims[l] || level.origin != base.origin || level.cell != std::ldexp(base.cell, int(l)) ||
+        level.values.size() != level.size())
+      throw InputError("field gradient: pyramid level " + std::to_string(l) +
+                       " is not the base grid coarsened 2^" + std::to_string(l) + "-fold (dims, origin or cell differ)");
+  }
+}
+
 // ψ_l at every base node: level l trilinear at the node's level coordinates.
 std::vector<double> level_at_base_nodes(const Grid3& level, const Grid3& base, unsigned shift) {
   const std::vector<AxisLookup> tx = axis_table(level, base.dims.x, shift, 0), ty = axis_table(level, base.dims.y, shift, 1),
@@ -96,6 +112,8 @@ double sample_trilinear(const Grid3& grid, const glm::dvec3& p) {
 // the base's last node, so clamping there gives the clamped level coordinate). Each level is
 // interpolated once per base node instead of seven times.
 FieldGrid4 precompute_field_gradient(const std::vector<Grid3>& pyramid) {
+  if (pyramid.empty()) throw InputError("field gradient: the pyramid has no levels");
+  check_levels(pyramid);
   const Grid3& base = pyramid.front();
   FieldGrid4 out{base.dims, base.origin, base.cell, std::vector<glm::vec4>(base.size())};
   std::vector<std::vector<double>> at_nodes(pyramid.size());

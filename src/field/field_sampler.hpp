@@ -27,7 +27,9 @@ struct FieldGrid4 {
 /// ψ̃(x) = (1/L) Σ_l ψ_l(x) (trilinear in each level), so that the energy the refiner measures,
 /// Σ A ψ̃̄, is the one whose gradient the flow follows: with level 0 alone the averaged gradient
 /// is not a descent direction of the measured energy and the flow stalls.
-/// \pre pyramid non-empty, level 0 dims all >= 2, levels as built by build_pyramid_cpu.
+/// \pre level 0 dims all >= 2.
+/// \throw InputError when the pyramid is empty or a level is not laid out as build_pyramid_cpu
+///        builds it (dims of pyramid_level_dims, the base's origin, 2^l times its cell).
 FieldGrid4 precompute_field_gradient(const std::vector<Grid3>& pyramid);
 
 /// Trilinear interpolation of a scalar grid at world point p, p clamped into the grid's box.
