@@ -21,11 +21,15 @@ struct AxisSample {
   double t;
 };
 
-AxisSample axis_sample(const Grid3& grid, int a, double coord) {
-  const unsigned n = grid.dims[a];
-  const double c = clamp_coord((coord - grid.origin[a]) / grid.cell, n);
+// The same at grid coordinate g (in cells from the origin) of an axis of n nodes.
+AxisSample index_sample(unsigned n, double g) {
+  const double c = clamp_coord(g, n);
   const unsigned i0 = n >= 2 ? std::min<unsigned>(unsigned(std::floor(c)), n - 2) : 0;
   return {{i0, n >= 2 ? i0 + 1 : 0}, n >= 2 ? c - i0 : 0.0};
+}
+
+AxisSample axis_sample(const Grid3& grid, int a, double coord) {
+  return index_sample(grid.dims[a], (coord - grid.origin[a]) / grid.cell);
 }
 
 double trilinear(const Grid3& grid, const AxisSample& x, const AxisSample& y, const AxisSample& z) {
@@ -45,6 +49,10 @@ struct AxisLookup {
   double w[2];
 };
 
+AxisLookup axis_lookup(const AxisSample& s, std::size_t stride) {
+  return {{s.i[0] * stride, s.i[1] * stride}, {1 - s.t, s.t}};
+}
+
 // trilinear's arithmetic, term for term, on prepared lookups.
 double trilinear(const float* v, const AxisLookup& x, const AxisLookup& y, const AxisLookup& z) {
   double acc = 0.0;
@@ -56,17 +64,12 @@ double trilinear(const float* v, const AxisLookup& x, const AxisLookup& y, const
 }
 
 // Level l's lookups at every base coordinate k of axis a: the level coordinate k / 2^l (exact),
-// clamped into the level, as axis_sample clamps.
+// clamped into the level.
 std::vector<AxisLookup> axis_table(const Grid3& level, unsigned base_n, unsigned shift, int a) {
-  const unsigned n = level.dims[a];
   const std::size_t stride = a == 0 ? 1 : (a == 1 ? level.dims.x : std::size_t(level.dims.x) * level.dims.y);
   std::vector<AxisLookup> out(base_n);
-  for (unsigned k = 0; k < base_n; ++k) {
-    const double c = clamp_coord(std::ldexp(double(k), -int(shift)), n);
-    const unsigned i0 = n >= 2 ? std::min<unsigned>(unsigned(std::floor(c)), n - 2) : 0;
-    const double t = n >= 2 ? c - i0 : 0.0;
-    out[k] = {{i0 * stride, (n >= 2 ? i0 + 1 : 0) * stride}, {1 - t, t}};
-  }
+  for (unsigned k = 0; k < base_n; ++k)
+    out[k] = axis_lookup(index_sample(level.dims[a], std::ldexp(double(k), -int(shift))), stride);
   return out;
 }
 

@@ -23,7 +23,8 @@ struct FieldGrid4 {
 ///   g_l(x)·e = (ψ_l(x + h_l e) − ψ_l(x − h_l e)) / (2 h_l),
 /// with points clamped into the level's box. The points are taken in the level's index space,
 /// where base node k sits at level coordinate k / 2^l exactly (and the samples at that ± 1):
-/// the world positions' rounding would give each level's interpolation a few ulps of noise. The value channel is the matching multi-scale field
+/// the world positions' rounding would give each level's interpolation a few ulps of noise.
+/// The value channel is the matching multi-scale field
 /// ψ̃(x) = (1/L) Σ_l ψ_l(x) (trilinear in each level), so that the energy the refiner measures,
 /// Σ A ψ̃̄, is the one whose gradient the flow follows: with level 0 alone the averaged gradient
 /// is not a descent direction of the measured energy and the flow stalls.
