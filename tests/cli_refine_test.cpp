@@ -126,7 +126,7 @@ TEST(CliRefine, SetOverridesSceneKeysAndTheDemoInputRecordsThem) {
                " --backend cpu --stop-after refine -q --set refine.tau=0.004 --set refine.max_iterations=3");
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json report = nlohmann::json::parse(slurp(out / "report.json"));
-  EXPECT_EQ(report["iterations"].size(), 3u);
+  EXPECT_LE(report["iterations"].size(), 3u);
   const nlohmann::json input = nlohmann::json::parse(slurp(out / "input" / "branch.json"));
   EXPECT_EQ(input["refine"]["tau"], 0.004);
   EXPECT_EQ(input["refine"]["max_iterations"], 3);

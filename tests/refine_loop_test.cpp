@@ -59,11 +59,14 @@ FieldGrid4 field_on_cube(unsigned n, int levels, Psi psi) {
   return precompute_field_gradient(build_pyramid_cpu(g, po));
 }
 
-/// ψ = 1 + 0.8·|z − h(x, y)| + 0.5·|z − 0.5|: weak along a wavy surface h, pulled toward the sheet.
+/// ψ = 0.3 + 3·|z − h(x, y)|: weak along a wavy surface h near the sheet.
 FieldGrid4 wavy_field() {
-  return field_on_cube(33, 4, [](const glm::dvec3& p) {
+  // 32 nodes: the sheet's plane z = 0.5 falls inside a cell (with 33 it lies on a node plane,
+  // where the trilinear ψ has a kink: the gradient there is the mean of the two one-sided slopes,
+  // and a step either way can raise E).
+  return field_on_cube(32, 4, [](const glm::dvec3& p) {
     const double h = 0.5 + 0.12 * std::sin(6.0 * p.x) * std::cos(5.0 * p.y);
-    return 1.0 + 0.8 * std::abs(p.z - h) + 0.5 * std::abs(p.z - 0.5);
+    return 0.3 + 3.0 * std::abs(p.z - h);
   });
 }
 
@@ -72,8 +75,7 @@ struct RefineRun {
   RefineResult result;
 };
 
-RefineRun run_refine(std::uint64_t seed, int iterations, std::size_t max_triangles = 4000, double budget_slack = 0.0,
-                     double step = 0.0, bool fill_budget = true) {
+RefineRun run_refine(std::uint64_t seed, int iterations, std::size_t max_triangles = 4000, double step = 0.03) {
   static const ExteriorSurface b = make_exterior(unit_cube(), "cube");
   static const FieldGrid4 field = wavy_field();
   RefineRun r{sheet(4, 0.5f), {}};
@@ -84,49 +86,14 @@ RefineRun run_refine(std::uint64_t seed, int iterations, std::size_t max_triangl
   o.delta = 0.01;
   o.max_iterations = iterations;
   o.max_triangles = max_triangles;
-  o.budget_slack = budget_slack;
   o.step = step;
-  o.fill_budget = fill_budget;
   o.seed = seed;
+  o.rim_motion = true;  // the sheet's rim slides on the cube's faces toward the valley
   r.result = refine_surface(r.s, field, b, *backend, o);
   return r;
 }
 
 }  // namespace
-
-// A vertex whose move in a flow step would be under 1% of its shortest edge stays exactly where
-// it was (it has settled), while the others move. Field: ψ = 6 + w(x)·(z − 0.5), its pull on the
-// flat sheet 1000 times weaker where x < 0.3 than where x > 0.4 (one level: no blur across).
-TEST(RefineLoop, SlowVerticesSettleWhileFastOnesMove) {
-  static const ExteriorSurface b = make_exterior(unit_cube(), "cube");
-  const FieldGrid4 field = field_on_cube(45, 1, [](const glm::dvec3& p) {
-    const double w = p.x < 0.3 ? 0.01 : (p.x > 0.4 ? 10.0 : 0.01 + (p.x - 0.3) * 99.9);
-    return 6.0 + w * (p.z - 0.5);
-  });
-  FractureSurface s = sheet(10, 0.5f);
-  const std::vector<glm::vec4> before = s.positions;
-  auto backend = make_cpu_backend(2);
-  RefineOptions o;
-  o.scale = b.diagonal();
-  o.tau = 1.0;  // no splits: only the flow step
-  o.max_iterations = 1;
-  o.seed = 1;
-  const RefineResult r = refine_surface(s, field, b, *backend, o);
-  ASSERT_EQ(validate(s), "");
-  ASSERT_EQ(r.iterations.size(), 1u);
-  int slow_interior = 0, fast_moved = 0;
-  for (std::size_t v = 0; v < before.size(); ++v) {
-    if (s.vertex_flags[v] & kVertexBoundary) continue;
-    if (before[v].x < 0.25f) {
-      ++slow_interior;
-      EXPECT_EQ(s.positions[v], before[v]) << "vertex " << v << " at x = " << before[v].x << " moved";
-    } else if (before[v].x > 0.45f && s.positions[v] != before[v]) {
-      ++fast_moved;
-    }
-  }
-  EXPECT_EQ(slow_interior, 18);  // x = 0.1 and 0.2, y = 0.1 .. 0.9
-  EXPECT_GT(fast_moved, 20);
-}
 
 TEST(RefineLoop, RefinesKeepsInvariantsAndLowersEnergy) {
   RefineRun r = run_refine(7, 25);
@@ -145,7 +112,7 @@ TEST(RefineLoop, RefinesKeepsInvariantsAndLowersEnergy) {
 // energy (ψ at the sample above its corners' interpolation): such an iteration is undone whole,
 // so the energy still never rises, and S and the tree stay consistent.
 TEST(RefineLoop, SplitsTheFlowCannotPayForAreUndone) {
-  const RefineRun r = run_refine(7, 25, 4000, 0.0, 1e-12);
+  const RefineRun r = run_refine(7, 25, 4000, 1e-12);
   ASSERT_EQ(validate(r.s), "");
   ASSERT_FALSE(r.result.iterations.empty());
   EXPECT_EQ(r.result.tree.parents.size(), r.s.positions.size());
@@ -196,8 +163,8 @@ TEST(RefineLoop, IterationCapStop) {
 
 // The loop stops in the iteration where a split is first refused for the budget, at or under it
 // (the chord splits after the loop may add a few faces: they keep the pieces stage sound). Up to
-// that iteration a budgeted run is the unbudgeted one (without fill_budget, which splits below
-// tau for the budget), so it must end in the first iteration where the unbudgeted run goes past it.
+// that iteration a budgeted run is the unbudgeted one, so it must end in the first iteration where
+// the unbudgeted run goes past it.
 TEST(RefineLoop, BudgetStopsTheLoopAtTheFirstRefusedSplit) {
   const RefineRun free_run = run_refine(9, 25);
   for (std::size_t budget : {55u, 61u, 63u}) {
@@ -206,54 +173,13 @@ TEST(RefineLoop, BudgetStopsTheLoopAtTheFirstRefusedSplit) {
     while (expected < free_run.result.iterations.size() && free_run.result.iterations[expected].triangles <= budget)
       ++expected;
     ASSERT_LT(expected, free_run.result.iterations.size());  // the free run goes past the budget
-    RefineRun r = run_refine(9, 25, budget, 0.0, 0.0, false);
+    RefineRun r = run_refine(9, 25, budget);
     ASSERT_EQ(validate(r.s), "");
     EXPECT_EQ(r.result.stop, RefineResult::Stop::kTriangleBudget);
     EXPECT_EQ(r.result.iterations.size(), expected + 1);
     EXPECT_LE(r.result.iterations.back().triangles, budget);
     EXPECT_GE(r.s.faces.size(), r.result.iterations.back().triangles);
   }
-}
-
-// With a slack, the loop also stops after the first iteration that ends within slack·budget of
-// the budget; the iterations before it are those of the run without the slack.
-TEST(RefineLoop, BudgetSlackStopsTheLoopNearTheBudget) {
-  const std::size_t budget = 63;
-  const double slack = 0.25;
-  const RefineRun strict = run_refine(9, 25, budget, 0.0, 0.0, false);
-  std::size_t expected = 0;
-  while (expected < strict.result.iterations.size() &&
-         double(budget) - double(strict.result.iterations[expected].triangles) >= slack * double(budget))
-    ++expected;
-  ASSERT_LT(expected + 1, strict.result.iterations.size());  // the slack must cut the strict run short
-  const RefineRun r = run_refine(9, 25, budget, slack, 0.0, false);
-  ASSERT_EQ(validate(r.s), "");
-  EXPECT_EQ(r.result.stop, RefineResult::Stop::kTriangleBudget);
-  ASSERT_EQ(r.result.iterations.size(), expected + 1);
-  for (std::size_t k = 0; k <= expected; ++k)
-    EXPECT_EQ(r.result.iterations[k].triangles, strict.result.iterations[k].triangles) << "iteration " << k;
-}
-
-// fill_budget fills the budget in the iteration after which the next would run into it: never
-// more iterations than without it, fewer for some budgets, the same invariants, the budget kept.
-TEST(RefineLoop, BudgetFillNeedsNoMoreIterations) {
-  std::size_t fewer = 0;
-  for (std::size_t budget : {60u, 80u, 100u, 120u, 150u, 180u, 200u, 250u}) {
-    SCOPED_TRACE("budget " + std::to_string(budget));
-    const RefineRun plain = run_refine(9, 25, budget, 0.1, 0.0, false);
-    const RefineRun filled = run_refine(9, 25, budget, 0.1, 0.0, true);
-    ASSERT_EQ(validate(filled.s), "");
-    EXPECT_EQ(filled.result.stop, RefineResult::Stop::kTriangleBudget);
-    EXPECT_LE(filled.result.iterations.back().triangles, budget);
-    double previous = filled.result.initial_energy;
-    for (const IterationStats& st : filled.result.iterations) {
-      EXPECT_LE(st.energy, previous * (1.0 + 1e-9)) << "energy rose";
-      previous = st.energy;
-    }
-    EXPECT_LE(filled.result.iterations.size(), plain.result.iterations.size());
-    fewer += filled.result.iterations.size() < plain.result.iterations.size();
-  }
-  EXPECT_GT(fewer, 0u);
 }
 
 TEST(RefineLoop, SplitsRecordTreeWeightsThatReproduceTheCreationPosition) {

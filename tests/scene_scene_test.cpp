@@ -59,7 +59,7 @@ const char* kComplete = R"({
   "weights": {"strength": 2.0, "distance": 0, "offset": 0.25},
   "pyramid": {"levels": 6, "sigma": 1.5},
   "refine": {"tau": 0.003, "delta": 0.005, "step": 0.01, "tolerance": 1e-6, "max_iterations": 0,
-             "max_triangles": 1000, "budget_slack": 0.2, "fill_budget": false, "seed": 42, "min_angle": 0, "collisions": false},
+             "max_triangles": 1000, "seed": 42, "min_angle": 0, "collisions": false},
   "output": {"ply": false, "obj": true, "glb": false, "frames": false, "preview": false, "preview_frames": 12}
 })";
 
@@ -97,8 +97,6 @@ TEST(ParseScene, CompleteSceneHasExactValues) {
   EXPECT_EQ(s.refine.tolerance, 1e-6);
   EXPECT_EQ(s.refine.max_iterations, 0);
   EXPECT_EQ(s.refine.max_triangles, 1000);
-  EXPECT_EQ(s.refine.budget_slack, 0.2);
-  EXPECT_FALSE(s.refine.fill_budget);
   EXPECT_EQ(s.refine.seed, 42u);
   EXPECT_EQ(s.refine.min_angle, 0.0);
   EXPECT_FALSE(s.refine.collisions);
@@ -132,11 +130,9 @@ TEST(ParseScene, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(s.refine.tau, 0.002);
   EXPECT_EQ(s.refine.delta, 0.004);
   EXPECT_EQ(s.refine.step, 0.0);
-  EXPECT_EQ(s.refine.tolerance, 1e-5);
-  EXPECT_EQ(s.refine.max_iterations, 60);
-  EXPECT_EQ(s.refine.max_triangles, 200000);
-  EXPECT_EQ(s.refine.budget_slack, 0.1);
-  EXPECT_TRUE(s.refine.fill_budget);
+  EXPECT_EQ(s.refine.tolerance, 5e-4);
+  EXPECT_EQ(s.refine.max_iterations, 200);
+  EXPECT_EQ(s.refine.max_triangles, 2000000);
   EXPECT_EQ(s.refine.seed, 1u);
   EXPECT_EQ(s.refine.min_angle, 20.0);
   EXPECT_TRUE(s.refine.collisions);

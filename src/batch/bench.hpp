@@ -54,6 +54,9 @@ struct SceneBenchResult {
   std::vector<double> final_energy;  ///< each run's energy after its last refine iteration
   std::optional<std::uint64_t> coarse_triangles, refined_triangles;  ///< the last run's
   std::optional<std::uint64_t> iterations;
+  std::optional<std::string> stop_reason;  ///< the last run's report.json stop_reason
+  /// The last run's quality: energy_ratio and weak_fraction's coarse and refined.
+  std::optional<double> energy_ratio, weak_coarse, weak_refined;
   std::uint64_t paper_coarse_triangles = 0, paper_refined_triangles = 0;  ///< from BenchScene
   double paper_seconds = 0.0;                                             ///< from BenchScene; 0 = unknown
   double startup_seconds = 0.0;     ///< from BenchBackend
@@ -69,7 +72,8 @@ struct SceneBenchOptions {
 /// Appends one run's figures from its report.json to `r`: seconds.setup, .refine, .kernels,
 /// .pieces, .animate and .total each to its series when present; the final energy (the last entry of
 /// `iterations`, or `initial_energy` when no iteration ran) when the job refined; and the counts
-/// coarse_triangles, refined_triangles and the number of iterations (replacing the last run's).
+/// coarse_triangles, refined_triangles and the number of iterations, the stop_reason and the
+/// quality's energy_ratio and weak_fraction (replacing the last run's).
 void record_run(const nlohmann::ordered_json& report, SceneBenchResult& r);
 
 /// Runs every (scene, backend) pair options.repeat times, interleaved: for each repeat, for each

@@ -106,6 +106,9 @@ ordered_json scene_json(const std::vector<SceneBenchResult>& all, const SceneBen
   j["coarse_triangles"] = or_null(r.coarse_triangles);
   j["refined_triangles"] = or_null(r.refined_triangles);
   j["iterations"] = or_null(r.iterations);
+  j["stop_reason"] = or_null(r.stop_reason);
+  j["energy_ratio"] = or_null(r.energy_ratio);
+  j["weak_fraction"] = {{"coarse", or_null(r.weak_coarse)}, {"refined", or_null(r.weak_refined)}};
   j["final_energy"] = or_null(median_of(r.final_energy));
   j["samples_final_energy"] = r.final_energy;
   ordered_json med = ordered_json::object(), samples = ordered_json::object(), to_cpu = ordered_json::object();
@@ -170,6 +173,9 @@ Row scene_row(const SceneBenchResult& r) {
   row.push_back(triangles);
   const std::optional<double> energy = median_of(r.final_energy);
   row.push_back(energy ? energy_text(*energy) : "-");
+  row.push_back(r.stop_reason.value_or("-"));
+  row.push_back(r.energy_ratio ? fmt(*r.energy_ratio) : "-");
+  row.push_back(r.weak_coarse && r.weak_refined ? fmt(*r.weak_coarse) + " -> " + fmt(*r.weak_refined) : "-");
   for (const char* key : kStages) {
     const std::optional<double> m = median_of(*series(r, key));
     row.push_back(m ? fmt(*m) : "-");
@@ -239,7 +245,7 @@ ordered_json bench_json(const std::vector<SceneBenchResult>& scenes, const std::
 
 std::string scene_table(const std::vector<SceneBenchResult>& scenes, int repeat, Stage stop_after) {
   if (scenes.empty()) return "";
-  std::vector<Row> rows = {{"scene", "backend", "triangles", "final energy", "setup s", "refine s", "kernels s", "pieces s",
+  std::vector<Row> rows = {{"scene", "backend", "triangles", "final energy", "stop", "E ratio", "weak fraction", "setup s", "refine s", "kernels s", "pieces s",
                             "animate s", "total s", "paper triangles", "paper s", "refine/paper"}};
   std::vector<std::string> errors;
   for (const SceneBenchResult& r : scenes) {

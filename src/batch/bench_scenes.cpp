@@ -78,6 +78,18 @@ void record_run(const ordered_json& report, SceneBenchResult& r) {
   r.refined_triangles = count_of(report, "refined_triangles");
   r.iterations.reset();
   if (report.contains("iterations") && report["iterations"].is_array()) r.iterations = report["iterations"].size();
+  r.stop_reason.reset();
+  if (report.contains("stop_reason") && report["stop_reason"].is_string()) r.stop_reason = report["stop_reason"].get<std::string>();
+  r.energy_ratio.reset(), r.weak_coarse.reset(), r.weak_refined.reset();
+  auto number = [](const ordered_json& j, const char* key) -> std::optional<double> {
+    if (j.is_object() && j.contains(key) && j[key].is_number()) return j[key].get<double>();
+    return std::nullopt;
+  };
+  if (report.contains("quality") && report["quality"].is_object()) {
+    const ordered_json& q = report["quality"];
+    r.energy_ratio = number(q, "energy_ratio");
+    if (q.contains("weak_fraction")) r.weak_coarse = number(q["weak_fraction"], "coarse"), r.weak_refined = number(q["weak_fraction"], "refined");
+  }
 }
 
 std::vector<SceneBenchResult> bench_scenes(const std::vector<BenchScene>& scenes, const std::vector<BenchBackend>& backends,

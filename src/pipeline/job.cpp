@@ -11,6 +11,7 @@
 #include "flow/timed_backend.hpp"
 #include "io/mesh_io.hpp"
 #include "pipeline/job_outputs.hpp"
+#include "pipeline/surface_preview.hpp"
 #include "pipeline/material.hpp"
 #include "pipeline/strength.hpp"
 #include "animate/animate.hpp"
@@ -107,8 +108,6 @@ RefineOptions refine_options(const Scene& scene, const JobOptions& o, double dia
   r.tolerance = scene.refine.tolerance;
   r.max_iterations = scene.refine.max_iterations;
   r.max_triangles = std::size_t(scene.refine.max_triangles);
-  r.budget_slack = scene.refine.budget_slack;
-  r.fill_budget = scene.refine.fill_budget;
   r.seed = o.seed.value_or(scene.refine.seed);
   r.min_angle = scene.refine.min_angle;
   r.collisions = scene.refine.collisions;
@@ -158,7 +157,9 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   report.seconds("refine", seconds_since(t_refine));
   report.kernels(backend.seconds());
   report.refined(model.surface, s, refined, field.zeta, b.diagonal());
+  report.quality(measure_quality(model.surface, s, field.sampled, field.zeta, b));
   write_surface_ply(out / "fracture_surface.ply", s, &refined.tree);
+  if (scene.output.preview) write_png(out / "preview_surface.png", preview_strength_surface(s, field.zeta));
   write_mesh(out / "exterior.ply", exterior_mesh);
   if (o.stop_after == Stage::refine)
     return report.finish(out, seconds_since(t0), [&] { return preview_surface(s, exterior_mesh); });

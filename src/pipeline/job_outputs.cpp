@@ -31,14 +31,14 @@ void JobReport::refined(const FractureSurface& coarse, const FractureSurface& re
                         const Grid3& zeta, double diagonal) {
   j_["refined_triangles"] = refined.faces.size();
   j_["initial_energy"] = r.initial_energy;
-  const char* stops[] = {"converged", "triangle budget", "iteration cap"};
-  j_["stop"] = stops[int(r.stop)];
+  const char* stops[] = {"converged", "max_triangles", "max_iterations"};
+  j_["stop_reason"] = stops[int(r.stop)];
   nlohmann::ordered_json its = nlohmann::ordered_json::array();
   for (const IterationStats& st : r.iterations) {
     const IterationStats::Phases& p = st.phases;
     its.push_back({{"energy", st.energy}, {"triangles", st.triangles}, {"max_displacement", st.max_displacement},
                    {"collisions_stopped", st.collisions_stopped}, {"splits", st.splits}, {"flips", st.flips},
-                   {"dt", st.dt}, {"seconds", st.seconds},
+                   {"dt", st.dt}, {"solver_iterations", st.solver_iterations}, {"seconds", st.seconds},
                    {"phase_seconds", {{"splits", p.splits}, {"flips", p.flips}, {"evaluate", p.evaluate},
                                       {"flow", p.flow}, {"flow_collisions", p.flow_collisions}}}});
   }
@@ -49,6 +49,13 @@ void JobReport::refined(const FractureSurface& coarse, const FractureSurface& re
   j_["distance_to_coarse"] = {{"max", d.max}, {"mean", d.mean}};
   if (std::isfinite(allowed)) j_["distance_to_coarse"]["allowed"] = allowed;
   else j_["distance_to_coarse"]["allowed"] = nullptr;
+}
+
+void JobReport::quality(const SurfaceQuality& q) {
+  j_["quality"] = {{"energy_ratio", q.energy_ratio},
+                   {"energy", {{"coarse", q.coarse_energy}, {"refined", q.refined_energy}}},
+                   {"weak_fraction", {{"coarse", q.weak_coarse}, {"refined", q.weak_refined}, {"threshold", q.weak_threshold}}},
+                   {"displacement", {{"mean", q.displacement_mean}, {"p95", q.displacement_p95}, {"max", q.displacement_max}}}};
 }
 
 void JobReport::pieces(const PieceSet& pieces, const PieceReport& checked) {

@@ -15,6 +15,7 @@
 #include "flow/timed_backend.hpp"
 #include "io/mesh_soup.hpp"
 #include "pieces/pieces.hpp"
+#include "pipeline/quality.hpp"
 #include "preview/raster.hpp"
 #include "refine/refine.hpp"
 #include "scene/scene.hpp"
@@ -29,6 +30,8 @@ class JobReport {
   /// Triangle counts, iterations, mean_strength, and distance_to_coarse (`diagonal`: B's).
   void refined(const FractureSurface& coarse, const FractureSurface& refined, const RefineResult& result,
                const Grid3& zeta, double diagonal);
+  /// `quality`: energy_ratio, weak_fraction {coarse, refined, threshold}, displacement {mean, p95, max}.
+  void quality(const SurfaceQuality& q);
   void pieces(const PieceSet& pieces, const PieceReport& checked);
   void animated(const AnimationTransfer& transfer, std::size_t frames_written);
   /// `glb`: bytes, frames_kept, frame_step of animation.glb; a note when frames were dropped.

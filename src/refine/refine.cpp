@@ -5,31 +5,28 @@
 #include <cmath>
 
 #include "field/field_sampler.hpp"
+#include "flow/implicit_step.hpp"
 #include "util/parallel.hpp"
 #include "refine/collisions.hpp"
 #include "refine/containment.hpp"
 #include "refine/flips.hpp"
 #include "refine/samples.hpp"
+#include "refine/step_guard.hpp"
 #include "util/error.hpp"
 
 namespace fracref {
 namespace {
 
-// A vertex never moves more than this fraction of its shortest incident edge in one step, so a
-// step cannot invert its triangles. The automatic time step is the median over vertices of
-// kStepFraction · ℓ_i / |v_i|: half the vertices take the full gradient step, the fastest half
-// are clipped to kStepFraction · ℓ_i (a normalised-gradient step). If the energy rises anyway
-// the step is halved (at most kBacktracks times) and, failing that, not taken.
-constexpr float kStepFraction = 0.3f;
-// A vertex whose move is under this fraction of its shortest edge stays put (it has settled).
-// On the bunny, 96% of the moving vertices carry 5% of a late step's squared motion (median move
-// 0.27% of the shortest edge: stiff, nearly flat fans); holding those back leaves E within 0.1%
-// and ζ unchanged, and keeps them out of the step's collision tests (resting pairs are skipped).
-constexpr float kSettleFraction = 0.01f;
+// The flow step (flow/implicit_step.hpp) is semi-implicit: its length is set by the scene, not
+// by the smallest triangle. dt = step · scale / g, g the root mean square of |∇ψ| over the field's
+// nodes: at the field's typical gradient a vertex is driven `step` of the diagonal per iteration.
+// If the energy rises the step is halved (at most kBacktracks times) and, failing that, not taken.
+constexpr double kDefaultStep = 0.004;
 constexpr int kBacktracks = 6;
-constexpr double kStiffFraction = 0.5;
 constexpr int kInsertBacktracks = 10;
-constexpr float kFillFraction = 0.25f;      // of tau: the smallest offset fill_budget splits
+// Converged: the relative decrease of E in an iteration below the tolerance, and at most this
+// fraction of the faces split in it (one random sample per face can keep finding a last few).
+constexpr double kSplitTail = 0.01;
 constexpr double kConformTolerance = 2e-4;  // of the diagonal
 constexpr int kConformPasses = 8;
 // Passes of split_rim_chords after the loop (a pass splits each face at most once).
@@ -53,25 +50,19 @@ class Refiner {
   void evaluate();
   void sample_new_vertices();
   double energy() const { return surface_energy(view(), samples_); }
-  std::vector<float> shortest_edges() const;
-  float choose_dt(const std::vector<float>& shortest) const;
-  std::vector<glm::vec3> boundary_tangents() const;
-  std::vector<float> stiffness_steps() const;
+  std::vector<glm::dmat3> motion_filters() const;
+  StepGuardOptions step_guard_options() const;
   void conform_boundary();
   // Containment splits: lengths in the scene's unit, nothing split below the sample spacing.
   TuckOptions tuck_options() const { return {.scale = o_.scale, .min_edge = o_.delta}; }
   bool flow_step(double ceiling, IterationStats& st);
   std::size_t refine_step(std::uint32_t iteration);
   IterationStats iterate(std::uint32_t iteration, double e_before);
-  struct ElementMotion {
-    glm::vec3 sample{0.0f}, interpolated{0.0f};
-  };
   struct Verdict {
     bool split = false;
-    float offset = 0.0f;   // how far the judging step takes the sample off its element
-    glm::vec3 move{0.0f};  // where the judging step takes the sample, from it
+    float offset = 0.0f;  // how far the step takes the sample off its element
   };
-  Verdict judge_sample(const SplitRequest& r, const glm::vec3& p, const glm::vec4& tested, bool on_boundary,
+  Verdict judge_sample(const SampleSet& set, std::size_t k, const glm::vec4& tested, bool on_boundary,
                        float threshold) const;
   // The splits chosen so far in an iteration (faces touched, within the budget).
   struct SplitChoice {
@@ -81,12 +72,11 @@ class Refiner {
     std::size_t faces = 0;
     bool add(const FractureSurface& s, const SplitRequest& r, std::size_t max_faces, bool& over_budget);
   };
-  void fill_budget(const SampleSet& set, const std::vector<glm::vec4>& tested, const std::vector<char>& on_boundary,
-                   std::vector<Verdict>& verdicts, SplitChoice& choice);
-  ElementMotion element_motion(const SplitRequest& r, const glm::vec3& v_sample, float shortest) const;
+  glm::vec3 sample_step(const SampleSet& set, std::size_t k, const glm::vec4& tested) const;
   void drop_colliding_insertions(std::vector<SplitRequest>& chosen, std::vector<glm::vec3>& start,
                                  std::vector<glm::vec3>& target) const;
   void inherit_clearance(const FractureSurface& s, const RefinementTree& tree, std::vector<float>& clearance) const;
+  void inherit_moves();
   void shorten_clearance(const std::vector<glm::vec4>& full, const std::vector<glm::vec4>& at);
 
   FractureSurface& s_;
@@ -96,13 +86,10 @@ class Refiner {
   RefineOptions o_;
   RefinementTree tree_;
   std::vector<glm::vec4> samples_, velocity_;
+  double dt_ = 0.0;               // the flow's time step (see kDefaultStep)
   bool budget_reached_ = false;   // a split was refused because it would exceed max_triangles
   std::vector<float> clearance_;  // per vertex, a lower bound of the distance to B (< 0: unknown)
-  // The vertices the last splits inserted (ids from first_inserted_ on) and the moves that
-  // judged them (see inserted_step).
-  std::size_t first_inserted_ = 0;
-  std::vector<glm::vec3> insertion_moves_;
-  bool inserted_step(std::size_t v, float shortest, glm::vec3& d) const;
+  std::vector<glm::vec3> last_move_;  // per vertex, its motion in the last flow step
 };
 
 // The splits leave old vertices where they were: only the new ones need ψ (for the flips'
@@ -120,100 +107,72 @@ void Refiner::evaluate() {
   be_.vertex_velocities(view(), samples_, velocity_);
 }
 
-std::vector<float> Refiner::shortest_edges() const {
-  std::vector<float> len(s_.positions.size(), std::numeric_limits<float>::max());
-  for (const glm::uvec2& e : s_.edges) {
-    float l = glm::distance(glm::vec3(s_.positions[e.x]), glm::vec3(s_.positions[e.y]));
-    len[e.x] = std::min(len[e.x], l);
-    len[e.y] = std::min(len[e.y], l);
-  }
-  return len;
-}
-
-// A boundary vertex slides on B; its motion ALONG the boundary curve changes nothing of the
-// shape but bunches boundary vertices into slivers that no flip can repair (boundary edges are
-// special), so it is removed: boundary vertices move only across the curve.
-std::vector<glm::vec3> Refiner::boundary_tangents() const {
-  std::vector<glm::vec3> first(s_.positions.size(), glm::vec3(0.0f)), tangent(s_.positions.size(), glm::vec3(0.0f));
-  std::vector<std::uint8_t> count(s_.positions.size(), 0);
-  for (std::uint32_t e = 0; e < s_.edges.size(); ++e) {
-    if (s_.edge_special[e] != kEdgeBoundary) continue;
-    glm::uvec2 ab = s_.edges[e];
-    glm::vec3 dir = glm::vec3(s_.positions[ab.y]) - glm::vec3(s_.positions[ab.x]);
-    float len = glm::length(dir);
-    if (len == 0.0f) continue;
+// The unit tangent of the curve of `kind` edges (boundary or junction) through each vertex with
+// exactly two of them; zero elsewhere.
+std::vector<glm::dvec3> curve_tangents(const FractureSurface& s, EdgeKind kind) {
+  std::vector<glm::dvec3> first(s.positions.size(), glm::dvec3(0.0)), tangent(s.positions.size(), glm::dvec3(0.0));
+  std::vector<std::uint8_t> count(s.positions.size(), 0);
+  for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
+    if (s.edge_special[e] != kind) continue;
+    const glm::uvec2 ab = s.edges[e];
+    glm::dvec3 dir = glm::dvec3(glm::vec3(s.positions[ab.y])) - glm::dvec3(glm::vec3(s.positions[ab.x]));
+    const double len = glm::length(dir);
+    if (len == 0.0) continue;
     dir /= len;
     for (std::uint32_t v : {ab.x, ab.y}) {
-      if (count[v]++ == 0) first[v] = dir;
-      else if (count[v] == 2) tangent[v] = glm::dot(first[v], dir) >= 0.0f ? first[v] + dir : first[v] - dir;
+      if (count[v] < 255 && count[v]++ == 0) first[v] = dir;
+      else if (count[v] == 2) tangent[v] = glm::dot(first[v], dir) >= 0.0 ? first[v] + dir : first[v] - dir;
     }
   }
   for (std::size_t v = 0; v < tangent.size(); ++v) {
-    float len = glm::length(tangent[v]);
-    tangent[v] = (count[v] == 2 && len > 0.0f) ? tangent[v] / len : glm::vec3(0.0f);
+    const double len = glm::length(tangent[v]);
+    tangent[v] = (count[v] == 2 && len > 0.0) ? tangent[v] / len : glm::dvec3(0.0);
   }
   return tangent;
 }
 
-// The area term of the flow is stiff: a vertex of a sliver or of a small tent has a huge
-// velocity and an explicit step overshoots it into oscillation. Moving vertex i out of the plane
-// of face j (opposite edge L_j, area A_j) by h adds ½ h² L_j²/(4 A_j) to the area, so the energy's
-// normal stiffness at i is H_i = ψ_i Σ_j L_j²/(4 A_j) and the Newton step for it is M_i / H_i.
-// Each vertex's step is capped at kStiffFraction of it: a Jacobi-preconditioned descent.
-std::vector<float> Refiner::stiffness_steps() const {
-  // The faces' terms side by side, summed per vertex in face order (the same doubles as a
-  // serial loop); a degenerate face adds nothing.
-  std::vector<glm::dvec3> term(s_.faces.size());
-  parallel_chunks(term.size(), chunk_count(term.size(), 4096), kThreads, [&](std::size_t, std::size_t b, std::size_t e) {
-    for (std::size_t j = b; j < e; ++j) {
-      const glm::uvec4 f = s_.faces[j];
-      glm::dvec3 x[3] = {glm::dvec3(glm::vec3(s_.positions[f.x])), glm::dvec3(glm::vec3(s_.positions[f.y])),
-                         glm::dvec3(glm::vec3(s_.positions[f.z]))};
-      double area = 0.5 * glm::length(glm::cross(x[1] - x[0], x[2] - x[0]));
-      term[j] = glm::dvec3(0.0);
-      if (area <= 0.0) continue;
-      for (int k = 0; k < 3; ++k) {
-        glm::dvec3 opposite = x[(k + 2) % 3] - x[(k + 1) % 3];
-        term[j][k] = glm::dot(opposite, opposite) / (4.0 * area);
+glm::dmat3 onto_line(const glm::dvec3& u) { return glm::outerProduct(u, u); }
+glm::dmat3 off_line(const glm::dvec3& u) { return glm::dmat3(1.0) - glm::outerProduct(u, u); }
+
+// The motions the flow allows each vertex (the implicit step's filter). A vertex inside a sheet
+// moves freely: a sheet whose rim moves can only shrink if its vertices follow along it (held to
+// their normals, the bunny's finely sampled E fell by 16% instead of 33%). A vertex on B stays
+// unless options.rim_motion: the pieces stage cannot yet cut B along a rim that wandered (its
+// traces crossed on the bunny). With rim_motion a vertex on B slides on B across its rim curve (along the curve it would bunch the rim into slivers that no flip can
+// repair, as boundary edges are special); one where the rim is not a simple curve slides on B
+// freely. A junction vertex moves across its junction curve.
+std::vector<glm::dmat3> Refiner::motion_filters() const {
+  const std::vector<glm::dvec3> rim = curve_tangents(s_, kEdgeBoundary), junction = curve_tangents(s_, kEdgeNonManifold);
+  std::vector<glm::dmat3> out(s_.positions.size(), glm::dmat3(1.0));
+  parallel_chunks(out.size(), chunk_count(out.size(), 4096), kThreads, [&](std::size_t, std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const std::uint32_t flags = s_.vertex_flags[i];
+      if ((flags & kVertexBoundary) && !o_.rim_motion) {
+        out[i] = glm::dmat3(0.0);
+      } else if (flags & kVertexBoundary) {
+        const glm::dvec3 nb = b_.normal(closest_point(b_.bvh, glm::dvec3(glm::vec3(s_.positions[i]))).triangle);
+        const glm::dvec3 across = glm::cross(nb, rim[i]);
+        const double len = glm::length(across);
+        out[i] = len > 0.5 ? onto_line(across / len) : off_line(nb);
+      } else if ((flags & kVertexNonManifold) && junction[i] != glm::dvec3(0.0)) {
+        out[i] = off_line(junction[i]);
       }
     }
   });
-  std::vector<double> h(s_.positions.size(), 0.0);
-  for (std::size_t j = 0; j < term.size(); ++j)
-    for (int k = 0; k < 3; ++k) h[s_.faces[j][k]] += term[j][k];
-  std::vector<float> out(h.size(), std::numeric_limits<float>::max());
-  for (std::size_t i = 0; i < h.size(); ++i) {
-    double stiffness = std::max(double(samples_[i].x), 1e-6) * h[i];
-    if (stiffness > 0.0) out[i] = float(kStiffFraction * velocity_[i].w / stiffness);
-  }
   return out;
 }
 
-float Refiner::choose_dt(const std::vector<float>& shortest) const {
-  if (o_.step > 0.0) return float(o_.step);
-  std::vector<float> ratios;
-  ratios.reserve(velocity_.size());
-  for (std::size_t i = 0; i < velocity_.size(); ++i) {
-    float speed = glm::length(glm::vec3(velocity_[i]));
-    if (speed > 0.0f && shortest[i] < std::numeric_limits<float>::max())
-      ratios.push_back(kStepFraction * shortest[i] / speed);
+// B's normal at the middle of each rim face's boundary edge (step_guard.hpp).
+StepGuardOptions Refiner::step_guard_options() const {
+  StepGuardOptions g;
+  g.rim_normals.assign(s_.faces.size(), glm::dvec3(0.0));
+  for (std::uint32_t e = 0; e < s_.edges.size(); ++e) {
+    if (s_.edge_special[e] != kEdgeBoundary) continue;
+    const glm::uvec2 ab = s_.edges[e];
+    const glm::dvec3 mid = 0.5 * (glm::dvec3(glm::vec3(s_.positions[ab.x])) + glm::dvec3(glm::vec3(s_.positions[ab.y])));
+    g.rim_normals[s_.ef_faces[s_.ef_offsets[e]]] = b_.normal(closest_point(b_.bvh, mid).triangle);
   }
-  if (ratios.empty()) return 0.0f;
-  auto mid = ratios.begin() + ratios.size() / 2;
-  std::nth_element(ratios.begin(), mid, ratios.end());
-  return *mid;
-}
-
-// A vertex inserted by the last splits takes, in the flow step after them, the move that judged
-// its split (over its element's time scale, which the global step does not give it: with the
-// global step refinement slowed, the branch took 13 iterations instead of 10). Near B it takes
-// the ordinary step: boundary vertices and vertices within a few steps of B moved that far left
-// slivers along the rim that made the pieces stage retry (bunny: 13 attempts instead of 7).
-bool Refiner::inserted_step(std::size_t v, float shortest, glm::vec3& d) const {
-  if (v < first_inserted_ || v - first_inserted_ >= insertion_moves_.size()) return false;
-  if ((s_.vertex_flags[v] & kVertexBoundary) || !(clearance_[v] > 4.0f * kStepFraction * shortest)) return false;
-  d = insertion_moves_[v - first_inserted_];
-  return true;
+  return g;
 }
 
 // Takes the step when it brings E to at most `ceiling` (backtracking as above) and sets st.energy
@@ -222,24 +181,26 @@ bool Refiner::inserted_step(std::size_t v, float shortest, glm::vec3& d) const {
 // edit; each evaluation is a kernel call, with a fixed cost on Vulkan).
 bool Refiner::flow_step(double ceiling, IterationStats& st) {
   const double e0 = ceiling;
-  const std::vector<float> shortest = shortest_edges();
-  const std::vector<glm::vec3> boundary_tangent = boundary_tangents();
-  const std::vector<float> stiff_dt = stiffness_steps();
-  float dt = choose_dt(shortest);
+  const std::vector<glm::dmat3> filter = motion_filters();
+  std::vector<glm::dvec3> d(s_.positions.size());
+  for (std::size_t i = 0; i < d.size() && i < last_move_.size(); ++i) d[i] = glm::dvec3(last_move_[i]);
+  st.solver_iterations = implicit_step(view(), samples_, velocity_, dt_, filter, d, {.threads = kThreads}).iterations;
   const std::vector<glm::vec4> x0 = s_.positions;
   std::vector<glm::vec4> full = x0;
-  for (std::size_t i = 0; i < x0.size(); ++i) {
-    glm::vec3 d = std::min(dt, stiff_dt[i]) * glm::vec3(velocity_[i]);
-    d -= glm::dot(d, boundary_tangent[i]) * boundary_tangent[i];
-    inserted_step(i, shortest[i], d);
-    float len = glm::length(d), cap = kStepFraction * shortest[i];
-    if (len > cap) d *= cap / len;
-    if (len < kSettleFraction * shortest[i]) d = glm::vec3(0.0f);
-    full[i] = glm::vec4(glm::vec3(x0[i]) + d, 1.0f);
-  }
+  for (std::size_t i = 0; i < x0.size(); ++i) full[i] = glm::vec4(glm::vec3(x0[i]) + glm::vec3(d[i]), 1.0f);
   apply_boundary_constraint(s_, b_, x0, full);
+  const StepGuardOptions guard = step_guard_options();
+  hold_folding_motion(s_, x0, full, guard);
   const auto t_ccd = Clock::now();
+  const std::vector<float> clearance_x0 = clearance_;
   st.collisions_stopped = o_.collisions ? apply_collision_constraints(s_, b_, x0, full, &clearance_) : 0;
+  // Vertices the collisions held can fold a face the guard passed; holding more of them cannot
+  // make a collision, but it can expose one (collisions.hpp), so the collisions run again (from
+  // the clearances at x0, which they take).
+  while (o_.collisions && hold_folding_motion(s_, x0, full, guard) > 0) {
+    clearance_ = clearance_x0;
+    st.collisions_stopped += apply_collision_constraints(s_, b_, x0, full, &clearance_);
+  }
   st.phases.flow_collisions = seconds_since(t_ccd);
   // Backtracking shortens the constrained, collision-free motion: every vertex then follows the
   // first part of the same straight path, which is collision-free too (boundary vertices are
@@ -249,14 +210,19 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
     std::vector<glm::vec4> x1 = x0;
     for (std::size_t i = 0; i < x0.size(); ++i) x1[i] = x0[i] + fraction * (full[i] - x0[i]);
     if (attempt > 0) apply_boundary_constraint(s_, b_, x0, x1);
+    if (attempt > 0 && motion_folds(s_, x0, x1, guard)) continue;
     s_.positions = x1;
     std::vector<glm::vec4> trial(x1.size()), vel(x1.size());
     be_.vertex_velocities(view(), trial, vel);
-    if (const double e1 = surface_energy(view(), trial); e1 <= e0) {
+    const double e1 = surface_energy(view(), trial);
+    if (e1 <= e0) {
       st.energy = e1;
-      st.dt = dt * fraction;
-      for (std::size_t i = 0; i < x0.size(); ++i)
-        st.max_displacement = std::max<double>(st.max_displacement, glm::distance(glm::vec3(x0[i]), glm::vec3(x1[i])));
+      st.dt = dt_ * fraction;
+      last_move_.resize(x0.size());
+      for (std::size_t i = 0; i < x0.size(); ++i) {
+        last_move_[i] = glm::vec3(x1[i]) - glm::vec3(x0[i]);
+        st.max_displacement = std::max<double>(st.max_displacement, glm::length(last_move_[i]));
+      }
       samples_ = std::move(trial);
       velocity_ = std::move(vel);
       shorten_clearance(full, x1);
@@ -264,6 +230,7 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
     }
   }
   s_.positions = x0;  // no step lowered the energy: stay (samples_ and velocity_ are x0's still)
+  std::fill(last_move_.begin(), last_move_.end(), glm::vec3(0.0f));
   shorten_clearance(full, x0);
   return false;
 }
@@ -353,7 +320,7 @@ float element_offset(const ElementShape& e, const glm::vec3& d) {
 // lies on B, off its edge's chord: that jump is not tested, as the rim chords are not.)
 std::size_t Refiner::refine_step(std::uint32_t iteration) {
   const float scale = float(o_.scale);
-  SampleSet set = draw_samples(s_, o_.seed, iteration, float(o_.delta) * scale);
+  SampleSet set = draw_samples(s_, o_.seed, iteration, float(o_.delta) * scale, float(o_.rim_delta) * scale);
   std::vector<char> on_boundary(set.points.size(), 0);
   parallel_chunks(set.points.size(), chunk_count(set.points.size(), 4096), kThreads,
                   [&](std::size_t, std::size_t begin, std::size_t end) {
@@ -371,26 +338,19 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
   const float tau = float(o_.tau) * scale;
   parallel_chunks(set.points.size(), chunk_count(set.points.size(), 1024), kThreads,
                   [&](std::size_t, std::size_t begin, std::size_t end) {
-                    for (std::size_t k = begin; k < end; ++k)
-                      verdicts[k] =
-                          judge_sample(set.requests[k], glm::vec3(set.points[k]), out[k], on_boundary[k], tau);
+                    for (std::size_t k = begin; k < end; ++k) verdicts[k] = judge_sample(set, k, out[k], on_boundary[k], tau);
                   });
   SplitChoice choice;
   choice.touched.assign(s_.faces.size(), 0);
   choice.faces = s_.faces.size();
-  first_inserted_ = s_.positions.size();
-  insertion_moves_.clear();
   for (std::size_t k = 0; k < set.points.size() && !budget_reached_; ++k) {
     if (!verdicts[k].split || !choice.add(s_, set.requests[k], o_.max_triangles, budget_reached_)) continue;
     choice.start.push_back(glm::vec3(set.points[k]));
-    insertion_moves_.push_back(verdicts[k].move);
   }
-  if (o_.fill_budget && !budget_reached_) fill_budget(set, out, on_boundary, verdicts, choice);
-  std::vector<SplitRequest>& chosen = choice.chosen;
-  std::vector<glm::vec3>& start = choice.start;
-  apply_splits(s_, tree_, chosen, &start);
+  apply_splits(s_, tree_, choice.chosen, &choice.start);
   inherit_clearance(s_, tree_, clearance_);
-  return chosen.size();
+  inherit_moves();
+  return choice.chosen.size();
 }
 
 bool Refiner::SplitChoice::add(const FractureSurface& s, const SplitRequest& r, std::size_t max_faces, bool& over_budget) {
@@ -409,77 +369,83 @@ bool Refiner::SplitChoice::add(const FractureSurface& s, const SplitRequest& r, 
   return true;
 }
 
-// When the next iteration, growing S as this one does, would run into the budget, it would cost
-// a pass over all of S for what is left of the budget: that room is filled now instead, with the
-// samples below τ (down to kFillFraction τ) that would move farthest, largest offset first. On
-// the bunny this spares the last and costliest of its iterations.
-void Refiner::fill_budget(const SampleSet& set, const std::vector<glm::vec4>& tested,
-                          const std::vector<char>& on_boundary, std::vector<Verdict>& verdicts, SplitChoice& choice) {
-  const double before = double(s_.faces.size()), after = double(choice.faces);
-  if (!(after > before) || after * (after / before) < double(o_.max_triangles)) return;
-  const float tau = float(o_.tau) * float(o_.scale), floor = kFillFraction * tau;
-  std::vector<std::uint32_t> order;
-  // Samples above τ that were not split failed the energy test already: judged again, they would again.
-  for (std::uint32_t k = 0; k < verdicts.size(); ++k)
-    if (!verdicts[k].split && verdicts[k].offset > floor && verdicts[k].offset <= tau) order.push_back(k);
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return verdicts[a].offset > verdicts[b].offset || (verdicts[a].offset == verdicts[b].offset && a < b);
-  });
-  parallel_chunks(
-      order.size(), chunk_count(order.size(), 1024), kThreads, [&](std::size_t, std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i) {
-          const std::uint32_t k = order[i];
-          verdicts[k] = judge_sample(set.requests[k], glm::vec3(set.points[k]), tested[k], on_boundary[k], floor);
-        }
-      });
-  for (std::size_t i = 0; i < order.size() && !budget_reached_; ++i) {
-    const std::uint32_t k = order[i];
-    if (!verdicts[k].split || !choice.add(s_, set.requests[k], o_.max_triangles, budget_reached_)) continue;
-    choice.start.push_back(glm::vec3(set.points[k]));
-    insertion_moves_.push_back(verdicts[k].move);
-  }
+// A new vertex's last motion is its parents' interpolated: the motion of the point of S it was.
+void Refiner::inherit_moves() {
+  const std::size_t first = last_move_.size();
+  last_move_.resize(s_.positions.size(), glm::vec3(0.0f));
+  for (std::size_t v = first; v < last_move_.size(); ++v)
+    for (int k = 0; k < 3; ++k)
+      if (tree_.weights[v][k] != 0.0f) last_move_[v] += tree_.weights[v][k] * last_move_[tree_.parents[v][k]];
 }
 
-// Each sample is judged over its own element's time scale: the step that moves the element's
-// fastest point (the sample or a corner) by kStepFraction of the element's shortest edge. Its
-// distance from the moved element is its motion relative to the motion the corners interpolate
-// to at the sample: zero where ψ is linear over the element, so elements split where the field
-// has detail at their size, and refinement stops once ψ is linear at τ.
-Refiner::Verdict Refiner::judge_sample(const SplitRequest& r, const glm::vec3& p, const glm::vec4& tested,
+// A sample is judged by the same semi-implicit step as a vertex (flow/implicit_step.hpp), solved
+// for the sample alone with its element's corners moving as they did in the last step:
+//     (M_s + dt W_s) d_s = dt M_s v_s + dt Σ_k w_k d_k,
+// M_s the mass of the sample's fan, v_s its velocity (K3), w_k the cotangent weights of
+// its spokes, W_s their sum, d_k the corners' last motion. A large element lets the sample go
+// nearly as far as the explicit step dt·v_s; a small one ties it to its corners, so the offset
+// shrinks with the element and refinement ends where ψ is resolved at τ.
+glm::vec3 Refiner::sample_step(const SampleSet& set, std::size_t k, const glm::vec4& tested) const {
+  const glm::dvec3 p(glm::vec3(set.points[k]));
+  double mass = 0.0, weight_sum = 0.0;
+  glm::dvec3 pull(0.0);
+  // Spoke weights per fan corner (a vertex of S), summed as in the matrix.
+  std::uint32_t ids[16];
+  double w[16];
+  int count = 0;
+  auto add = [&](std::uint32_t v, double x) {
+    for (int c = 0; c < count; ++c)
+      if (ids[c] == v) return void(w[c] += x);
+    if (count < 16) ids[count] = v, w[count++] = x;
+  };
+  for (std::uint32_t t = set.fan_offsets[k]; t < set.fan_offsets[k + 1]; ++t) {
+    const glm::uvec2 ab = set.fan_pairs[t];
+    const glm::dvec3 a(glm::vec3(s_.positions[ab.x])), b(glm::vec3(s_.positions[ab.y]));
+    const double psi = (double(tested.w) + samples_[ab.x].x + samples_[ab.y].x) / 3.0;
+    const glm::dvec2 cot = corner_cotangents(p, a, b);
+    add(ab.x, 0.5 * psi * cot.y);
+    add(ab.y, 0.5 * psi * cot.x);
+    mass += glm::length(glm::cross(a - p, b - p)) / 6.0;
+  }
+  for (int c = 0; c < count; ++c) {
+    weight_sum += w[c];
+    if (ids[c] < last_move_.size()) pull += w[c] * glm::dvec3(last_move_[ids[c]]);
+  }
+  const double denom = mass + dt_ * weight_sum;
+  if (!(denom > 0.0)) return glm::vec3(0.0f);
+  return glm::vec3((dt_ * mass * glm::dvec3(glm::vec3(tested)) + dt_ * pull) / denom);
+}
+
+// The sample's offset is its step relative to the motion its element's corners interpolate to
+// at the sample (their last step's), across the element: zero where the element moves as a
+// whole.
+Refiner::Verdict Refiner::judge_sample(const SampleSet& set, std::size_t k, const glm::vec4& tested,
                                        bool on_boundary, float threshold) const {
   Verdict v;
+  const SplitRequest& r = set.requests[k];
   const ElementShape shape = element_shape(s_, r);
-  const ElementMotion m = element_motion(r, glm::vec3(tested), shape.shortest);
-  v.offset = element_offset(shape, m.sample - m.interpolated);
+  const glm::vec3 step = sample_step(set, k, tested);
+  glm::vec3 interpolated(0.0f);
+  const int n = r.kind == SplitRequest::kFace ? 3 : 2;
+  for (int c = 0; c < n; ++c) {
+    const std::uint32_t corner = r.kind == SplitRequest::kFace ? s_.faces[r.element][c] : s_.edges[r.element][c];
+    if (corner < last_move_.size()) interpolated += r.weights[c] * last_move_[corner];
+  }
+  v.offset = element_offset(shape, step - interpolated);
   if (v.offset <= threshold) return v;
   // The full step overshoots where the new faces' extra area outweighs the weaker material
   // reached, so the move is backtracked along the step until it lowers E.
-  glm::vec3 d = m.sample;
+  const glm::vec3 p(set.points[k]);
+  glm::vec3 d = step;
   for (int halving = 0; halving < kInsertBacktracks; ++halving, d *= 0.5f) {
     glm::vec3 q = p + d;
     if (on_boundary) q = glm::vec3(b_.closest_point(glm::dvec3(q)));
     if (split_delta_energy(s_, samples_, r, q, sample_field(field_, q).x) < 0.0) {
       v.split = true;
-      v.move = q - p;
       return v;
     }
   }
   return v;
-}
-
-Refiner::ElementMotion Refiner::element_motion(const SplitRequest& r, const glm::vec3& v_sample, float shortest) const {
-  glm::uvec3 corners(0u);
-  int n = 3;
-  if (r.kind == SplitRequest::kFace) corners = glm::uvec3(s_.faces[r.element]);
-  else corners = glm::uvec3(s_.edges[r.element], 0u), n = 2;
-  float fastest = glm::length(v_sample);
-  for (int c = 0; c < n; ++c) fastest = std::max(fastest, glm::length(glm::vec3(velocity_[corners[c]])));
-  ElementMotion m;
-  if (!(fastest > 0.0f)) return m;
-  float dt = kStepFraction * shortest / fastest;
-  m.sample = dt * v_sample;
-  for (int c = 0; c < n; ++c) m.interpolated += r.weights[c] * dt * glm::vec3(velocity_[corners[c]]);
-  return m;
 }
 
 // conform_boundary's splits move each new vertex from its chord's midpoint onto B: that motion is
@@ -563,6 +529,7 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   const auto t0 = Clock::now();
   const FractureSurface s_before = s_;
   const std::vector<glm::vec4> samples_before = samples_, velocity_before = velocity_;
+  const std::vector<glm::vec3> moves_before = last_move_;
   st.splits = refine_step(it);
   sample_new_vertices();
   st.phases.splits = seconds_since(t0);
@@ -579,7 +546,7 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   if (!moved) st.energy = e_now;
   if (!moved && e_now > e_before) {
     s_ = s_before;
-    samples_ = samples_before, velocity_ = velocity_before;
+    samples_ = samples_before, velocity_ = velocity_before, last_move_ = moves_before;
     tree_.parents.resize(s_.positions.size()), tree_.weights.resize(s_.positions.size());
     clearance_.resize(s_.positions.size());
     st.splits = st.flips = 0;
@@ -590,29 +557,37 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   return st;
 }
 
+// The root mean square of |∇ψ| over the field's nodes: the scene's typical gradient.
+double typical_gradient(const FieldGrid4& field) {
+  double sum = 0.0;
+  for (const glm::vec4& v : field.values) sum += double(v.y) * v.y + double(v.z) * v.z + double(v.w) * v.w;
+  return field.values.empty() ? 0.0 : std::sqrt(sum / double(field.values.size()));
+}
+
 RefineResult Refiner::run(const RefineProgress& progress) {
   RefineResult result;
   tree_ = RefinementTree::identity(s_.positions.size());
   be_.set_field(field_);
+  const double g = typical_gradient(field_);
+  dt_ = g > 0.0 ? (o_.step > 0.0 ? o_.step : kDefaultStep) * o_.scale / g : 0.0;
   project_boundary_vertices(s_, b_);
   conform_boundary();
   tuck_inside(s_, tree_, b_, tuck_options());
+  last_move_.assign(s_.positions.size(), glm::vec3(0.0f));
   evaluate();
   result.initial_energy = energy();
   double e = result.initial_energy;
   for (int it = 0; it < o_.max_iterations; ++it) {
     IterationStats st = iterate(std::uint32_t(it), e);
+    const double decrease = e > 0.0 ? (e - st.energy) / e : 0.0;
     e = st.energy;
     result.iterations.push_back(st);
     if (progress) progress(st, it, o_.max_iterations);
-    // Once a split has been refused for the budget, the surface is within one split of it:
-    // further iterations would add a handful of faces each at the full cost of an iteration.
-    const double room = double(o_.max_triangles) - double(s_.faces.size());
-    if (budget_reached_ || room < o_.budget_slack * double(o_.max_triangles)) {
+    if (budget_reached_) {
       result.stop = RefineResult::Stop::kTriangleBudget;
       break;
     }
-    if (st.splits == 0 && st.max_displacement < o_.tolerance * o_.scale) {
+    if (double(st.splits) <= kSplitTail * double(s_.faces.size()) && decrease < o_.tolerance) {
       result.stop = RefineResult::Stop::kConverged;
       break;
     }

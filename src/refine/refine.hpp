@@ -17,20 +17,25 @@ struct RefineOptions {
   double scale = 1.0;           ///< the length unit of the fractions below (bbox diagonal of B)
   double tau = 0.002;           ///< split when a sample would move farther than tau·scale off its element
   double delta = 0.004;         ///< discard samples closer than delta·scale to a vertex
-  double step = 0.0;            ///< time step; 0 = automatic (see refine.cpp: median CFL rule)
-  double tolerance = 1e-5;      ///< stop when the largest displacement < tolerance·scale and nothing split
-  int max_iterations = 60;
-  std::size_t max_triangles = 200000;  ///< stop once a split would exceed this many faces (the chord splits after the loop may add a few)
-  /// Stop also once fewer than budget_slack·max_triangles faces are left to the budget: another
-  /// iteration would add that little at the cost of an iteration at full size.
-  double budget_slack = 0.1;
-  /// When the next iteration, growing S as the current one does, would run into the budget, fill
-  /// the budget now with the samples below tau (down to tau/4) that would move farthest, rather
-  /// than in a last iteration that costs a pass over all of S for what is left (refine.cpp).
-  bool fill_budget = true;
+  /// Samples on S's rim (its edges on B) closer than max(delta, rim_delta)·scale to a vertex are
+  /// discarded: the pieces stage traces each rim edge across B, and rim edges much shorter than
+  /// B's own made its traces cross (bunny, rim edges ~1e-5 of the diagonal).
+  double rim_delta = 0.001;
+  /// The flow step's length: at the field's typical gradient (the root mean square of |∇ψ| over its
+  /// nodes) a vertex is driven step·scale per iteration; 0 = the default (refine.cpp). The step is
+  /// semi-implicit (flow/implicit_step.hpp), so it does not shrink with the triangles.
+  double step = 0.0;
+  /// Converged: E decreased by less than this fraction in an iteration that split (almost) nothing.
+  double tolerance = 5e-4;
+  int max_iterations = 200;               ///< a safety limit
+  std::size_t max_triangles = 2000000;    ///< a safety limit: stop once a split would exceed it
   std::uint64_t seed = 1;
   double min_angle = 20.0;      ///< degrees: flip edges of faces with a smaller angle
   bool collisions = true;       ///< continuous collision detection of S against itself and B
+  /// Let the flow slide S's rim (its vertices on B) along B; off, the rim stays where the coarse
+  /// surface meets B and only its splits refine it (the pieces stage cannot yet cut B along a
+  /// rim that wandered).
+  bool rim_motion = false;
 };
 
 /// What one iteration did (report.json's `iterations` list).
@@ -41,6 +46,7 @@ struct IterationStats {
   std::size_t collisions_stopped = 0;  ///< vertices held back by the collision constraints
   std::size_t splits = 0, flips = 0;
   double dt = 0.0;
+  int solver_iterations = 0;  ///< conjugate-gradient iterations of the flow step's solve
   double seconds = 0.0;  ///< wall-clock time of the iteration (splits, flips, flow step)
   /// Wall-clock seconds of the iteration's parts, in their order: the splits, the flips, the
   /// evaluation of the velocities after them, and the flow step (its collision constraints

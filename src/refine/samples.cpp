@@ -1,5 +1,7 @@
 #include "refine/samples.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 
 #include "util/parallel.hpp"
@@ -84,13 +86,13 @@ float sample_uniform(std::uint64_t seed, std::uint32_t iteration, std::uint32_t 
 namespace {
 
 void add_sample_of_face(const FractureSurface& s, std::uint32_t f, std::uint64_t seed, std::uint32_t it,
-                        float min_distance, SampleSet& out) {
+                        float min_distance, float rim_min_distance, SampleSet& out) {
   std::uint32_t boundary[3], nb = 0;
   for (int k = 0; k < 3; ++k)
     if (s.edge_special[s.face_edges[3 * f + k]] == kEdgeBoundary) boundary[nb++] = s.face_edges[3 * f + k];
   if (nb == 0) return add_face_sample(s, f, seed, it, min_distance, out);
   const std::uint32_t pick = boundary[sample_hash(seed, it, f, 2) % nb];
-  add_edge_sample(s, pick, sample_uniform(seed, it, f, 0), min_distance, out);
+  add_edge_sample(s, pick, sample_uniform(seed, it, f, 0), std::max(min_distance, rim_min_distance), out);
 }
 
 // Appends `part` to `out`, its fans after out's.
@@ -108,7 +110,8 @@ constexpr int kThreads = 2;
 
 }  // namespace
 
-SampleSet draw_samples(const FractureSurface& s, std::uint64_t seed, std::uint32_t it, float min_distance) {
+SampleSet draw_samples(const FractureSurface& s, std::uint64_t seed, std::uint32_t it, float min_distance,
+                       float rim_min_distance) {
   SampleSet out;
   const std::uint32_t nf = std::uint32_t(s.faces.size());
   for (std::uint32_t e = 0; e < s.edges.size(); ++e)
@@ -116,7 +119,7 @@ SampleSet draw_samples(const FractureSurface& s, std::uint64_t seed, std::uint32
   const std::size_t chunks = chunk_count(nf, 8192);
   std::vector<SampleSet> parts(chunks);
   parallel_chunks(nf, chunks, kThreads, [&](std::size_t c, std::size_t begin, std::size_t end) {
-    for (auto f = std::uint32_t(begin); f < end; ++f) add_sample_of_face(s, f, seed, it, min_distance, parts[c]);
+    for (auto f = std::uint32_t(begin); f < end; ++f) add_sample_of_face(s, f, seed, it, min_distance, rim_min_distance, parts[c]);
   });
   for (const SampleSet& part : parts) append(out, part);
   return out;

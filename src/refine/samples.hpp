@@ -32,8 +32,10 @@ struct SampleSet {
 /// face_count + e. A face with a boundary edge samples on it (the first boundary edge in the
 /// face's order, or one of two chosen by the hash); a face touching a non-manifold edge still
 /// draws its interior sample; the refiner resolves conflicts. Samples closer than `min_distance`
-/// to a vertex of their element are discarded.
+/// to a vertex of their element are discarded, and samples on boundary edges closer than
+/// max(min_distance, rim_min_distance).
 /// \pre adjacency current.
-SampleSet draw_samples(const FractureSurface& s, std::uint64_t seed, std::uint32_t iteration, float min_distance);
+SampleSet draw_samples(const FractureSurface& s, std::uint64_t seed, std::uint32_t iteration, float min_distance,
+                       float rim_min_distance = 0.0f);
 
 }  // namespace fracref

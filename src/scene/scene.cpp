@@ -142,11 +142,9 @@ RefineSpec read_refine(ObjectReader r) {
   f.tolerance = r.number("tolerance", f.tolerance, Range::greater_than(0.0));
   f.max_iterations = int(r.integer("max_iterations", f.max_iterations, {0, 100000}));
   f.max_triangles = r.integer("max_triangles", f.max_triangles, {1, 50000000});
-  f.budget_slack = r.number("budget_slack", f.budget_slack, Range::closed(0.0, 1.0));
   f.seed = std::uint64_t(r.integer("seed", std::int64_t(f.seed), IntRange::at_least(0)));
   f.min_angle = r.number("min_angle", f.min_angle, Range::half_open(0.0, 60.0));
   f.collisions = r.boolean("collisions", f.collisions);
-  f.fill_budget = r.boolean("fill_budget", f.fill_budget);
   r.finish();
   return f;
 }

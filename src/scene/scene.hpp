@@ -63,12 +63,10 @@ struct PyramidSpec {
 struct RefineSpec {
   double tau = 0.002;           ///< split threshold
   double delta = 0.004;         ///< minimum sample-to-vertex distance
-  double step = 0.0;            ///< time step; 0 = automatic (rule documented by the refiner)
-  double tolerance = 1e-5;      ///< stop when the largest displacement < tolerance · diagonal
-  int max_iterations = 60;      ///< in [0, 100000]
-  std::int64_t max_triangles = 200000;  ///< in [1, 50000000]
-  double budget_slack = 0.1;            ///< in [0, 1]
-  bool fill_budget = true;              ///< fill the budget early rather than in a partial iteration
+  double step = 0.0;            ///< flow step length at the typical gradient; 0 = the refiner's default
+  double tolerance = 5e-4;      ///< converged when E falls by less than this fraction in an iteration
+  int max_iterations = 200;     ///< in [0, 100000]: a safety limit
+  std::int64_t max_triangles = 2000000;  ///< in [1, 50000000]: a safety limit
   std::uint64_t seed = 1;       ///< seed of the random samples
   double min_angle = 20.0;      ///< degrees, in [0, 60): flip edges of triangles with a smaller angle
   bool collisions = true;       ///< continuous collision handling

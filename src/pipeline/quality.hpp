@@ -1,0 +1,28 @@
+#pragma once
+// What the refinement did to the fracture surface, in numbers a person can check against the
+// pictures (report.json `quality`): how much the energy fell, how much of the surface lies in
+// weak material, and how far the surface moved.
+#include "field/field_sampler.hpp"
+#include "field/grid.hpp"
+#include "refine/exterior.hpp"
+#include "surface/fracture_surface.hpp"
+
+namespace fracref {
+
+struct SurfaceQuality {
+  double coarse_energy = 0.0, refined_energy = 0.0;  ///< ∫ψ dA over each surface, finely sampled
+  double energy_ratio = 0.0;                         ///< refined / coarse (0 when coarse is 0)
+  double weak_threshold = 0.0;   ///< the 25th percentile of ζ over the grid nodes inside B
+  double weak_coarse = 0.0, weak_refined = 0.0;  ///< area fraction with ζ below the threshold
+  double displacement_mean = 0.0, displacement_p95 = 0.0, displacement_max = 0.0;  ///< ÷ diagonal
+};
+
+/// Measures the coarse and the refined surface with the same ψ (`field`'s value channel) and ζ.
+/// Each face is cut into n² equal triangles with n = ⌈longest edge / grid cell⌉ and sampled at
+/// their centroids, so every grid cell of area gets a sample. The displacement is each refined
+/// vertex's distance from the coarse surface, weighted by a third of its faces' area.
+/// \pre coarse has a face; zeta and field cover B's box.
+SurfaceQuality measure_quality(const FractureSurface& coarse, const FractureSurface& refined, const FieldGrid4& field,
+                               const Grid3& zeta, const ExteriorSurface& exterior);
+
+}  // namespace fracref

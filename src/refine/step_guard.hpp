@@ -1,0 +1,39 @@
+#pragma once
+// Local checks of a flow step before it is taken: faces that the step would fold over, and sheets
+// that would pass through each other around a junction edge (the collision search skips faces
+// that share a vertex, so neither would be seen there).
+#include <cstddef>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "surface/fracture_surface.hpp"
+
+namespace fracref {
+
+struct StepGuardOptions {
+  /// A face whose normal, projected on its old normal, keeps less than this fraction of it (turned
+  /// by more than 90 degrees, or collapsed) folds.
+  double min_area_ratio = 0.05;
+  /// Per face of S, B's outward unit normal where the face meets B along a boundary edge (zero for
+  /// the others); may be empty. Such a rim face may not turn closer to B's tangent plane than
+  /// min_rim_angle: the pieces stage re-triangulates a rim face from its inner corner toward its
+  /// edge's path on B, which that corner must see past B's curvature.
+  std::vector<glm::dvec3> rim_normals;
+  double min_rim_angle = 20.0;  ///< degrees
+};
+
+/// Resets to x0 every corner of a face that the motion x0 → x1 folds or turns toward B (above),
+/// and every vertex of the faces around a non-manifold edge whose cyclic order around the edge
+/// the motion changes;
+/// repeats until neither happens (holding vertices can fold a neighbour; every vertex held leaves
+/// S as it was, so the loop ends). Returns the number of vertices reset.
+/// \pre x0.size() == x1.size() == s.positions.size(); adjacency of s current.
+std::size_t hold_folding_motion(const FractureSurface& s, const std::vector<glm::vec4>& x0,
+                                std::vector<glm::vec4>& x1, const StepGuardOptions& options = {});
+
+/// Whether hold_folding_motion would reset anything (x1 is not changed).
+bool motion_folds(const FractureSurface& s, const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
+                  const StepGuardOptions& options = {});
+
+}  // namespace fracref
