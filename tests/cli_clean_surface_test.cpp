@@ -19,7 +19,7 @@ TEST(CliCleanSurface, FinerWallRefinesWithoutSelfIntersections) {
   const fs::path gen = t.path / "gen";
   ASSERT_EQ(run("demo wall -o " + gen.string() + " --backend cpu -q --stop-after preprocess").code, 0);
   nlohmann::json scene = nlohmann::json::parse(slurp(gen / "input" / "wall.json"));
-  scene["refine"]["tau"] = 0.001;
+  scene["refine"]["tau"] = 1e-5;
   scene["refine"]["delta"] = 0.002;
   scene["refine"]["max_iterations"] = 20;
   const fs::path path = gen / "input" / "wall_fine.json";

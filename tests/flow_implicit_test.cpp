@@ -9,25 +9,12 @@
 
 #include "flow/implicit_step.hpp"
 #include "flow/velocity.hpp"
+#include "flow_test_support.hpp"
 
 using namespace fracref;
+using fracref::test::linear_field;
 
 namespace {
-
-/// ψ = c + g·x on a grid (trilinear interpolation of a linear function is exact).
-FieldGrid4 linear_field(float c, glm::vec3 g) {
-  FieldGrid4 f;
-  f.dims = {9, 9, 9};
-  f.origin = glm::dvec3(-2.0);
-  f.cell = 0.5;
-  for (unsigned z = 0; z < 9; ++z)
-    for (unsigned y = 0; y < 9; ++y)
-      for (unsigned x = 0; x < 9; ++x) {
-        const glm::vec3 p = glm::vec3(f.origin) + float(f.cell) * glm::vec3(x, y, z);
-        f.values.push_back(glm::vec4(c + glm::dot(g, p), g));
-      }
-  return f;
-}
 
 /// An n×n grid sheet over [-1, 1]² at height h(x, y), with its vertex→faces CSR.
 struct Sheet {

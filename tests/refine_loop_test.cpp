@@ -13,51 +13,13 @@
 #include "refine/refine.hpp"
 #include "refine/topology_edit.hpp"
 #include "surface/surface_examples.hpp"
+#include "refine_test_support.hpp"
 #include "surface_test_support.hpp"
 
 using namespace fracref;
+using namespace fracref::test;
 
 namespace {
-
-MeshSoup unit_cube() {
-  MeshSoup m;
-  for (int i = 0; i < 8; ++i) m.positions.push_back(glm::dvec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
-  m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  return m;
-}
-
-/// An n×n grid sheet at height z spanning the cube, pieces (1 above, 0 below).
-FractureSurface sheet(int n, float z) {
-  std::vector<glm::vec4> p;
-  std::vector<glm::uvec4> f;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) p.push_back({float(i) / n, float(j) / n, z, 1.0f});
-  auto id = [n](int i, int j) { return std::uint32_t(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      f.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), 0});
-      f.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1), 0});
-    }
-  std::vector<glm::ivec2> pieces(f.size(), glm::ivec2(1, 0));
-  return make_fracture_surface(p, f, pieces, 2);
-}
-
-/// The field ψ = psi(p) on a grid of n nodes a side over the cube and a margin of 0.05, with a
-/// pyramid of `levels`.
-template <class Psi>
-FieldGrid4 field_on_cube(unsigned n, int levels, Psi psi) {
-  Grid3 g;
-  g.dims = {n, n, n};
-  g.origin = glm::dvec3(-0.05);
-  g.cell = 1.1 / double(n - 1);
-  for (unsigned z = 0; z < n; ++z)
-    for (unsigned y = 0; y < n; ++y)
-      for (unsigned x = 0; x < n; ++x) g.values.push_back(float(psi(g.node_position(x, y, z))));
-  PyramidOptions po;
-  po.levels = levels;
-  return precompute_field_gradient(build_pyramid_cpu(g, po));
-}
 
 /// ψ = 0.3 + 3·|z − h(x, y)|: weak along a wavy surface h near the sheet.
 FieldGrid4 wavy_field() {
@@ -89,6 +51,7 @@ RefineRun run_refine(std::uint64_t seed, int iterations, std::size_t max_triangl
   o.step = step;
   o.seed = seed;
   o.rim_motion = true;  // the sheet's rim slides on the cube's faces toward the valley
+  o.tolerance = 1e-4;
   r.result = refine_surface(r.s, field, b, *backend, o);
   return r;
 }

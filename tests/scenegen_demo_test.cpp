@@ -199,7 +199,7 @@ LoadedDemo check_demo(const std::string& name, const DemoOptions& options, const
   EXPECT_DOUBLE_EQ(d.animation.fps, 24.0);
   for (const DemoTarget& t : demo_scene_targets())
     if (t.name == name) {
-      EXPECT_EQ(d.scene.refine.max_triangles, std::int64_t(t.refined_triangles));
+      EXPECT_EQ(d.scene.refine.max_triangles, 2 * std::int64_t(t.refined_triangles));
     }
   EXPECT_EQ(d.scene.field.seed, options.seed);
   EXPECT_EQ(d.scene.refine.seed, options.seed);
@@ -253,8 +253,8 @@ TEST(ScenegenDemo, Branch) {
   const LoadedDemo d = check_demo("branch", {}, folder.path());
   EXPECT_EQ(d.scene.field.type, FieldType::branch);
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(32, 32, 64));
-  EXPECT_EQ(d.scene.refine.tau, 0.00001);
-  EXPECT_EQ(d.scene.refine.delta, 0.00002);
+  EXPECT_EQ(d.scene.refine.tau, 1e-7);
+  EXPECT_EQ(d.scene.refine.delta, 5e-5);
   ASSERT_FALSE(d.scene.fracture.cracks.empty());
   // One labelled piece and an incomplete crack, which virtual fracture completes into two pieces.
   EXPECT_EQ(d.model.piece_count, 2);
@@ -274,8 +274,8 @@ TEST(ScenegenDemo, Wall) {
   EXPECT_EQ(d.scene.field.type, FieldType::brick);
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(150, 50, 10));
   // Finer split thresholds than the defaults, toward the paper's count.
-  EXPECT_EQ(d.scene.refine.tau, 0.00005);
-  EXPECT_EQ(d.scene.refine.delta, 0.0001);
+  EXPECT_EQ(d.scene.refine.tau, 6e-8);
+  EXPECT_EQ(d.scene.refine.delta, 5e-5);
   ASSERT_EQ(d.scene.animation.kind, AnimationKind::rigid);
   ASSERT_EQ(d.animation.piece_transforms.size(), 48u);
   // Some pieces are knocked away, some stay where they were.
@@ -295,8 +295,8 @@ TEST(ScenegenDemo, Clay) {
   EXPECT_EQ(d.scene.field.type, FieldType::fbm);
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(32, 64, 64));
   // Finer split thresholds than the defaults: the paper's 40K triangles are within reach.
-  EXPECT_EQ(d.scene.refine.tau, 0.0001);
-  EXPECT_EQ(d.scene.refine.delta, 0.0002);
+  EXPECT_EQ(d.scene.refine.tau, 7e-7);
+  EXPECT_EQ(d.scene.refine.delta, 5e-5);
   check_backward_remeshing(d);
   // Large twisting before anything tears (late: from frame 30).
   EXPECT_GT(largest_motion(d, 29), 0.5);
@@ -334,8 +334,8 @@ TEST(ScenegenDemo, Bunny) {
   const LoadedDemo d = check_demo("bunny", options, folder.path());
   EXPECT_EQ(d.scene.field.type, FieldType::marble);
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(50, 50, 50));
-  EXPECT_EQ(d.scene.refine.tau, 0.0001);
-  EXPECT_EQ(d.scene.refine.delta, 0.0002);
+  EXPECT_EQ(d.scene.refine.tau, 3e-7);
+  EXPECT_EQ(d.scene.refine.delta, 1e-4);
   ASSERT_EQ(d.scene.animation.kind, AnimationKind::rigid);
   EXPECT_EQ(folder_bytes(folder.path())["bunny.obj"], folder_bytes(bunny.parent_path())[bunny.filename().string()]);
   // The pieces fall: every piece is lower at the end.

@@ -158,7 +158,7 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   report.kernels(backend.seconds());
   report.refined(model.surface, s, refined, field.zeta, b.diagonal());
   report.quality(measure_quality(model.surface, s, field.sampled, field.zeta, b));
-  write_surface_ply(out / "fracture_surface.ply", s, &refined.tree);
+  write_surface_ply(out / "fracture_surface.ply", s, &refined.tree, &field.zeta);
   if (scene.output.preview) write_png(out / "preview_surface.png", preview_strength_surface(s, field.zeta));
   write_mesh(out / "exterior.ply", exterior_mesh);
   if (o.stop_after == Stage::refine)
@@ -175,7 +175,7 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   write_pieces(pieces, out, wo);
   report.seconds("pieces", seconds_since(t_pieces));
   if (o.stop_after == Stage::pieces || animation.frames.empty())
-    return report.finish(out, seconds_since(t0), [&] { return preview_pieces(pieces); });
+    return report.finish(out, seconds_since(t0), [&] { return preview_pieces(pieces, &field.zeta); });
   progress("animate", 0.0, std::to_string(animation.frames.size()) + " frames");
   const auto t_animate = Clock::now();
   AnimationTransfer transfer = build_transfer(model, animation, refined.tree, pieces);
@@ -185,7 +185,7 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   const int sheet = o.preview_frames.value_or(scene.output.preview_frames);
   if (sheet > 0) write_png(out / "preview_frames.png", preview_frames(pieces, transfer, animation, sheet));
   report.seconds("animate", seconds_since(t_animate));
-  return report.finish(out, seconds_since(t0), [&] { return preview_pieces(pieces); });
+  return report.finish(out, seconds_since(t0), [&] { return preview_pieces(pieces, &field.zeta); });
 }
 
 }  // namespace fracref

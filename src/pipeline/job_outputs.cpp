@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "field/field_sampler.hpp"
+#include "pipeline/surface_preview.hpp"
 #include "geom/bvh.hpp"
 #include "io/mesh_io.hpp"
 #include "util/atomic_output.hpp"
@@ -116,7 +117,8 @@ nlohmann::ordered_json JobReport::finish(const std::filesystem::path& out, doubl
   return j_;
 }
 
-void write_surface_ply(const std::filesystem::path& path, const FractureSurface& s, const RefinementTree* tree) {
+void write_surface_ply(const std::filesystem::path& path, const FractureSurface& s, const RefinementTree* tree,
+                       const Grid3* zeta) {
   MeshSoup m;
   for (const glm::vec4& p : s.positions) m.positions.push_back(glm::dvec3(glm::vec3(p)));
   for (const glm::uvec4& f : s.faces) m.triangles.push_back({f.x, f.y, f.z});
@@ -126,6 +128,11 @@ void write_surface_ply(const std::filesystem::path& path, const FractureSurface&
   PropertyColumn flags{"flags", PropertyType::UInt8, {}};
   for (std::uint32_t f : s.vertex_flags) flags.values.push_back(f);
   m.vertex_properties.push_back(flags);
+  if (zeta) {
+    PropertyColumn strength{"strength", PropertyType::Float32, {}};
+    for (const glm::vec4& p : s.positions) strength.values.push_back(sample_trilinear(*zeta, glm::dvec3(glm::vec3(p))));
+    m.vertex_properties.push_back(strength);
+  }
   if (tree) {
     for (int k = 0; k < 3; ++k) {
       PropertyColumn parent{"parent" + std::to_string(k), PropertyType::UInt32, {}};
@@ -193,11 +200,12 @@ glm::vec3 piece_color(int piece) {
 
 }  // namespace
 
-Image preview_pieces(const PieceSet& set) {
+Image preview_pieces(const PieceSet& set, const Grid3* zeta) {
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
   for (const glm::dvec3& p : set.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
   const glm::dvec3 centre = 0.5 * (lo + hi);
-  const double explode = 0.12;
+  // Far enough apart that the fracture faces between the pieces are seen.
+  const double explode = 0.6;
   std::vector<PreviewMesh> meshes;
   for (std::size_t p = 0; p < set.pieces.size(); ++p) {
     const PieceSet::Piece& piece = set.pieces[p];
@@ -210,11 +218,21 @@ Image preview_pieces(const PieceSet& set) {
       std::uint32_t base = std::uint32_t(m.positions.size());
       for (int k = 0; k < 3; ++k) m.positions.push_back(set.positions[piece.triangles[f][k]] + shift);
       m.triangles.push_back({base, base + 1, base + 2});
-      m.triangle_colors.push_back(piece.inside[f] ? piece_color(int(p)) : glm::vec3(0.86f, 0.86f, 0.88f));
+      glm::vec3 color(0.86f, 0.86f, 0.88f);
+      if (piece.inside[f] && zeta) {
+        const glm::dvec3 c =
+            (set.positions[piece.triangles[f][0]] + set.positions[piece.triangles[f][1]] + set.positions[piece.triangles[f][2]]) / 3.0;
+        color = strength_color(normalized_strength(*zeta, c));
+      } else if (piece.inside[f]) {
+        color = piece_color(int(p));
+      }
+      m.triangle_colors.push_back(color);
     }
     meshes.push_back(std::move(m));
   }
   RenderOptions ro;
+  ro.width = 1600;
+  ro.height = 1000;
   return render_preview(meshes, ro);
 }
 

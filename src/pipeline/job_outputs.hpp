@@ -51,7 +51,8 @@ class JobReport {
 
 /// S as PLY: face properties `front`, `back` (the pieces), vertex property `flags`, and with a
 /// tree, `parent0..2` and `weight0..2` (the refinement tree). \throw RunError on I/O failure.
-void write_surface_ply(const std::filesystem::path& path, const FractureSurface& s, const RefinementTree* tree);
+void write_surface_ply(const std::filesystem::path& path, const FractureSurface& s, const RefinementTree* tree,
+                       const Grid3* zeta = nullptr);
 
 /// Area-weighted mean of ζ over S (ζ trilinear at the corners, averaged per face).
 double mean_strength(const FractureSurface& s, const Grid3& zeta);
@@ -69,8 +70,10 @@ CoarseDistance distance_to_coarse(const FractureSurface& coarse, const FractureS
 /// so no material there is weak enough to draw the surface that far. Infinity when w_d is 0.
 double allowed_distance(const WeightsSpec& w, const Grid3& zeta, double diagonal);
 
-/// The pieces slightly exploded, fracture faces in their piece's colour, exterior faces light.
-Image preview_pieces(const PieceSet& pieces);
+/// The pieces exploded far enough apart that the fracture faces are seen, 1600×1000; fracture
+/// faces coloured by ζ (surface_preview.hpp) when `zeta` is given, else by their piece; exterior
+/// faces light.
+Image preview_pieces(const PieceSet& pieces, const Grid3* zeta = nullptr);
 
 /// A contact sheet of `count` frames evenly spread over the animation (4 per row), each frame
 /// the pieces at their animated positions, each picture framed on its own.

@@ -557,11 +557,16 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   return st;
 }
 
-// The root mean square of |∇ψ| over the field's nodes: the scene's typical gradient.
+// The scene's typical gradient: the root mean square of |∇ψ| over the field's nodes, and at least
+// ψ's root mean square over the grid's diagonal, for a uniform field.
 double typical_gradient(const FieldGrid4& field) {
-  double sum = 0.0;
-  for (const glm::vec4& v : field.values) sum += double(v.y) * v.y + double(v.z) * v.z + double(v.w) * v.w;
-  return field.values.empty() ? 0.0 : std::sqrt(sum / double(field.values.size()));
+  if (field.values.empty()) return 0.0;
+  double g2 = 0.0, psi2 = 0.0;
+  for (const glm::vec4& v : field.values)
+    g2 += double(v.y) * v.y + double(v.z) * v.z + double(v.w) * v.w, psi2 += double(v.x) * v.x;
+  const double n = double(field.values.size());
+  const double diagonal = field.cell * glm::length(glm::dvec3(field.dims) - glm::dvec3(1.0));
+  return std::max(std::sqrt(g2 / n), diagonal > 0.0 ? std::sqrt(psi2 / n) / diagonal : 0.0);
 }
 
 RefineResult Refiner::run(const RefineProgress& progress) {
@@ -592,6 +597,10 @@ RefineResult Refiner::run(const RefineProgress& progress) {
       break;
     }
   }
+  // The flow keeps S's vertices inside B, but a face between vertices inside B can still cross a
+  // concave part of B (the collision test against B checks the motion of S's vertices and of
+  // rim faces): such faces are tucked in as before the flow.
+  tuck_inside(s_, tree_, b_, tuck_options());
   split_rim_chords(s_, tree_, b_, tuck_options(), kChordPasses);
   // Every edit is meant to keep S valid; a violation here is a bug, and it must not reach the
   // pieces or the output files silently. The derived arrays are the incremental rebuilds' (which

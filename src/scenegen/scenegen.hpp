@@ -41,7 +41,7 @@ struct DemoOptions {
 struct DemoTarget {
   std::string name;
   std::size_t coarse_triangles = 0;   ///< triangles of the coarse fracture surface
-  std::size_t refined_triangles = 0;  ///< the scene's refine.max_triangles
+  std::size_t refined_triangles = 0;  ///< the paper's refined count (twice it is the scene's refine.max_triangles)
   double seconds = 0.0;               ///< the paper's refinement time (one i7-2600 core, 2014)
 };
 

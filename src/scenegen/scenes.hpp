@@ -26,9 +26,9 @@ struct SceneSetup {
 
 /// The scene JSON of scene `setup.name` (keys of scenes/SCHEMA.md): its title and comment,
 /// `<name>.obj` as the exterior, `<name>_coarse.mesh` as the tets, `cracks` ("" = none), the
-/// animation, the paper's field and grid, the paper's refined count as refine.max_triangles and
-/// the seed as the field's and the refiner's; weights, pyramid and the other refine keys keep
-/// their defaults.
+/// animation, the paper's field and grid, the scene's refine.tau and refine.delta, twice the
+/// paper's refined count as the safety limit refine.max_triangles, and the seed as the field's and
+/// the refiner's; weights, pyramid and the other refine keys keep their defaults.
 Json scene_json(const SceneSetup& setup, const Json& animation, const std::string& cracks = "");
 
 /// A labelled coarse tet mesh in material space.
