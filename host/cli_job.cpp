@@ -1,5 +1,7 @@
 #include "cli_job.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -103,7 +105,9 @@ int run_demo(const JobCliOptions& o) {
                      ": the bunny is missing; run 'bash .ci/setup build' (it fetches npm bunny@1.0.1)");
   // The generated inputs are real files in the user formats; they travel with the output
   // (OUT/input/) so the run can be repeated with `fracref refine OUT/input/NAME.json`.
-  fs::path input = fs::path(o.output).parent_path() / (fs::path(o.output).filename().string() + ".input-tmp");
+  check_output_target(o.output);  // before anything is generated beside it
+  fs::path input = fs::path(o.output).parent_path() /
+                   (fs::path(o.output).filename().string() + ".input-tmp-" + std::to_string(::getpid()));
   fs::remove_all(input);
   struct Cleanup {
     fs::path p;

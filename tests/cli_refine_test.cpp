@@ -74,6 +74,7 @@ TEST(CliRefine, BadSceneNamesTheKeyAndLeavesTheOutputAlone) {
   fs::path out = t.path / "out";
   fs::create_directories(out);
   t.write("out/previous.txt", "a previous complete run");
+  t.write("out/.fracref-output", "previous.txt\n");  // a folder fracref wrote
   struct Case {
     std::string extra, expect;
   } cases[] = {{R"(, "refine2": {})", "refine2"},
@@ -93,7 +94,7 @@ TEST(CliRefine, BadSceneNamesTheKeyAndLeavesTheOutputAlone) {
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("broken.mesh:5"), std::string::npos) << r.err;
   EXPECT_EQ(slurp(out / "previous.txt"), "a previous complete run");
-  EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
+  EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 2);  // previous.txt and the marker
   for (auto& e : fs::directory_iterator(t.path)) EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos);
 }
 
@@ -177,4 +178,47 @@ TEST(CliRefine, DistanceWeightKeepsTheSurfaceNearTheCoarseOne) {
   EXPECT_NEAR(reports[0]["distance_to_coarse"]["allowed"].get<double>(),
               32.0 * reports[1]["distance_to_coarse"]["allowed"].get<double>(), 1e-9);
   EXPECT_LT(reports[1]["distance_to_coarse"]["mean"].get<double>(), 0.5 * reports[0]["distance_to_coarse"]["mean"].get<double>());
+}
+
+// A fracture of one piece has no fracture surface: a clear input error naming the mesh, not a
+// crash in the distance grid.
+TEST(CliRefine, OnePieceIsAnInputErrorNotACrash) {
+  TempDir t;
+  t.write("cube.obj", kCube);
+  std::string mesh = cube_mesh(2);
+  for (std::size_t at = mesh.find(" 1\n", mesh.find("Tetrahedra")); at != std::string::npos; at = mesh.find(" 1\n", at))
+    mesh.replace(at, 3, " 0\n");  // every tetrahedron in piece 0
+  t.write("cube.mesh", mesh);
+  const fs::path s = t.write("scene.json", scene(""));
+  const fs::path out = t.path / "out";
+  const auto r = run("refine " + s.string() + " -o " + out.string() + " --backend cpu -q");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("cube.mesh: the fracture has 1 piece(s) and no fracture surface"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// -o never replaces what fracref did not write: a scene file, or a folder of the user's files.
+TEST(CliRefine, OutputRefusesUserFilesAndFolders) {
+  TempDir t;
+  const fs::path proj = t.path / "proj";
+  fs::create_directories(proj);
+  std::ofstream(proj / "notes.txt") << "mine\n";
+  auto r = run("demo branch -o " + proj.string() + " --backend cpu -q --stop-after preprocess");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("fracref did not write"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(proj / "notes.txt"), "mine\n");
+  r = run("demo branch -o " + (proj / "notes.txt").string() + " --backend cpu -q --stop-after preprocess");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(slurp(proj / "notes.txt"), "mine\n");
+  // Its own output folder is replaced, unless something else was put in it.
+  const fs::path out = t.path / "out";
+  ASSERT_EQ(run("demo branch -o " + out.string() + " --backend cpu -q --stop-after preprocess").code, 0);
+  ASSERT_EQ(run("demo branch -o " + out.string() + " --backend cpu -q --stop-after preprocess").code, 0);
+  std::ofstream(out / "mine.txt") << "mine\n";
+  EXPECT_EQ(run("demo branch -o " + out.string() + " --backend cpu -q --stop-after preprocess").code, 2);
+  EXPECT_EQ(slurp(out / "mine.txt"), "mine\n");
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(t.path)) left.push_back(e.path().filename().string());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"out", "proj"}));  // no staging or input folders left
 }

@@ -122,6 +122,12 @@ TEST(GridFile, HeaderErrorsNameTheLine) {
   EXPECT_EQ(error_of("fracref-grid 1\nend_header now\n"), ":2: 'end_header' takes no value");
 }
 
+// A NUL byte once stopped the tokenizer from advancing (a hang at 100% CPU): it is an error now.
+TEST(GridFile, NulByteIsAnErrorNotAHang) {
+  EXPECT_EQ(error_of(std::string("fracref-grid 1\n\0\n", 17)), ":2: unknown key '\0' (dims, origin, cell, format, end_header)");
+  EXPECT_NE(error_of(kHeader + std::string("1 2 \0 4\n", 9)), "");
+}
+
 TEST(GridFile, TextValueErrorsNameTheLine) {
   EXPECT_EQ(error_of(kHeader + "1 2 3 4\n5 6 7\n"), ":8: too few values: 7 of the 8 that dims give");
   EXPECT_EQ(error_of(kHeader + "1 2 3 4\n5 6 7 8\n9\n"), ":9: too many values: '9' after the 8 of dims");

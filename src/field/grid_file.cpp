@@ -32,14 +32,18 @@ std::string read_bytes(const std::filesystem::path& file) {
   return ss.str();
 }
 
+// A NUL byte is not a blank (strchr would find the terminator): it stays in a token, which then
+// fails to parse, and every byte is consumed.
+bool blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
 std::vector<std::string_view> tokens(std::string_view line) {
   line = line.substr(0, line.find('#'));
   std::vector<std::string_view> out;
   std::size_t i = 0;
   while (i < line.size()) {
-    while (i < line.size() && std::strchr(" \t\r\v\f", line[i]) && line[i]) ++i;
+    while (i < line.size() && blank(line[i])) ++i;
     std::size_t j = i;
-    while (j < line.size() && !std::strchr(" \t\r\v\f", line[j])) ++j;
+    while (j < line.size() && !blank(line[j])) ++j;
     if (j > i) out.push_back(line.substr(i, j - i));
     i = j;
   }

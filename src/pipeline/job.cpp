@@ -139,6 +139,13 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
         model = load_coarse(scene);
         animation = load_animation(scene, model);
       });
+  if (model.surface.faces.empty()) {
+    const std::filesystem::path what = !scene.fracture.mesh.empty() ? scene.fracture.mesh
+                                       : !scene.fracture.files.empty() ? scene.fracture.files.front() : scene.file;
+    throw InputError(what.string() + ": the fracture has " + std::to_string(model.piece_count) +
+                     " piece(s) and no fracture surface between them: there is nothing to refine (label the tetrahedra or "
+                     "group the pieces so that at least two pieces meet)");
+  }
   report.coarse(model, animation);
   write_surface_ply(out / "coarse_surface.ply", model.surface, nullptr);
   if (o.stop_after == Stage::preprocess) {

@@ -1,5 +1,7 @@
 #include "util/atomic_output.hpp"
 
+#include <set>
+
 #include <unistd.h>
 
 #include <fstream>
@@ -32,8 +34,30 @@ void write_file_atomic(const fs::path& path, const std::string& bytes) {
   }
 }
 
+void check_output_target(const fs::path& target) {
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(target, ec);
+  if (ec || !fs::exists(st)) return;
+  const std::string where = target.string() + ": ";
+  if (!fs::is_directory(st))
+    throw InputError(where + "exists and is not a folder; fracref replaces only its own output folders (choose another -o)");
+  std::set<std::string> wrote;
+  std::ifstream marker(target / kOutputMarker);
+  for (std::string line; marker && std::getline(marker, line);) wrote.insert(line);
+  const bool ours = bool(std::ifstream(target / kOutputMarker));
+  for (const fs::directory_entry& e : fs::directory_iterator(target, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name == kOutputMarker || wrote.count(name)) continue;
+    throw InputError(where + (ours ? "holds '" + name + "', which fracref did not write"
+                                   : "is a folder that fracref did not write (it holds '" + name + "')") +
+                     "; fracref replaces only its own output folders and empty ones (choose another -o, or move the files)");
+  }
+  if (ec) throw InputError(where + "cannot be read: " + ec.message());
+}
+
 StagedDirectory::StagedDirectory(fs::path target) : target_(std::move(target)) {
   if (target_.filename().empty()) target_ = target_.parent_path();
+  check_output_target(target_);
   staging_ = target_;
   staging_ += ".tmp-" + std::to_string(::getpid());
   std::error_code ec;
@@ -50,6 +74,11 @@ StagedDirectory::~StagedDirectory() {
 
 void StagedDirectory::commit() {
   std::error_code ec;
+  std::set<std::string> names;
+  for (const fs::directory_entry& e : fs::directory_iterator(staging_, ec)) names.insert(e.path().filename().string());
+  std::string list;
+  for (const std::string& n : names) list += n + "\n";
+  write_file_atomic(staging_ / kOutputMarker, list);
   // The previous output is moved aside first so the swap never leaves a mixed folder.
   fs::path old = target_;
   old += ".old-" + std::to_string(::getpid());

@@ -9,12 +9,21 @@ namespace fracref {
 /// \throw RunError when the file cannot be written or renamed.
 void write_file_atomic(const std::filesystem::path& path, const std::string& bytes);
 
+/// The file every output folder of fracref carries: the names of the entries fracref wrote there,
+/// one a line. An existing folder is replaced only when it holds this file and nothing else.
+inline constexpr const char* kOutputMarker = ".fracref-output";
+
+/// Whether `target` may become an output folder: it does not exist, or it is an empty folder, or a
+/// folder that fracref wrote (kOutputMarker) holding only what the marker names.
+/// \throw InputError naming `target` and what is in the way; nothing is touched.
+void check_output_target(const std::filesystem::path& target);
+
 /// A staging folder beside `target` ("<target>.tmp-<pid>") that becomes `target` on commit().
 /// If commit() is never called the staging folder is removed, so a failed run leaves nothing
 /// half-written: `target` is either the previous complete output or the new complete one.
 class StagedDirectory {
  public:
-  /// \throw RunError when the staging folder cannot be created.
+  /// \throw InputError from check_output_target; RunError when the staging folder cannot be created.
   explicit StagedDirectory(std::filesystem::path target);
   ~StagedDirectory();
   StagedDirectory(const StagedDirectory&) = delete;
@@ -22,7 +31,8 @@ class StagedDirectory {
 
   /// Where to write the files of the output.
   const std::filesystem::path& path() const { return staging_; }
-  /// Replaces `target` by the staging folder. \throw RunError on failure.
+  /// Writes the marker (the staging folder's entries) and replaces `target` by the staging
+  /// folder. \throw RunError on failure.
   void commit();
 
  private:
