@@ -68,7 +68,7 @@ TEST(CliBatch, GoodJobsFinishTheBadOneFailsWithItsMessageAndTheRerunSkips) {
   EXPECT_EQ(tau_scene["refine"]["tau"], 0.004);
   EXPECT_EQ(tau_scene["refine"]["max_iterations"], 3);
   const std::string bad_log = slurp(out / "jobs/bad/log.txt");
-  EXPECT_NE(bad_log.find("bad.json: key 'refine.tau': must be > 0"), std::string::npos) << bad_log;
+  EXPECT_NE(bad_log.find("bad.json: key 'refine.tau': must be in (0, 1)"), std::string::npos) << bad_log;
   EXPECT_FALSE(fs::exists(out / "jobs/bad/output"));
   EXPECT_EQ(json::parse(slurp(out / "jobs/bad/status.json"))["exit_code"], 2);
 
@@ -79,7 +79,7 @@ TEST(CliBatch, GoodJobsFinishTheBadOneFailsWithItsMessageAndTheRerunSkips) {
   EXPECT_EQ(csv[2].rfind("cube-seed=2,in/cube.json,seed=2 stop_after=refine backend=cpu,ok,0,,", 0), 0u) << csv[2];
   EXPECT_EQ(csv[3].rfind("tau,in/cube.json,stop_after=refine backend=cpu refine.tau=0.004,ok,0,,", 0), 0u) << csv[3];
   EXPECT_EQ(csv[4].rfind("bad,in/bad.json,stop_after=refine backend=cpu,failed,2,,", 0), 0u) << csv[4];
-  EXPECT_NE(csv[4].find("key 'refine.tau': must be > 0"), std::string::npos) << csv[4];
+  EXPECT_NE(csv[4].find("key 'refine.tau': must be in (0, 1)"), std::string::npos) << csv[4];
   EXPECT_NE(csv[1].find(",8,"), std::string::npos) << csv[1];  // 8 coarse triangles
   const json summary = json::parse(slurp(out / "summary.json"));
   EXPECT_EQ(summary["success"], false);

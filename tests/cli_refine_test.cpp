@@ -144,7 +144,7 @@ TEST(CliRefine, BadSetIsAnInputErrorAndWritesNothing) {
   const fs::path out = t.path / "branch";
   for (const auto& [set, says] : std::vector<std::pair<std::string, std::string>>{
            {"refine.taux=1", "demo branch: key 'refine.taux': unknown key (did you mean 'tau'?)"},
-           {"refine.tau=-1", "key 'refine.tau': must be > 0"},
+           {"refine.tau=-1", "key 'refine.tau': must be in (0, 1)"},
            {"tau", "--set 'tau': expected KEY=VALUE"},
            {"refine=3", "key 'refine': expected an object"}}) {
     auto r = run("demo branch -o " + out.string() + " --backend cpu -q --set " + set);

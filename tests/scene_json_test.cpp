@@ -228,6 +228,8 @@ TEST(ObjectReader, RangesAreEnforcedAndDescribed) {
             "s.json: key 'refine.tau': must be > 0, got 0");
   EXPECT_EQ(reader_error(R"({"a": 60})", [](ObjectReader& r) { r.number("a", 1, Range::half_open(0, 60)); }),
             "s.json: key 'refine.a': must be in [0, 60), got 60");
+  EXPECT_EQ(reader_error(R"({"t": 1e308})", [](ObjectReader& r) { r.number("t", 0.5, Range::open(0, 1)); }),
+            "s.json: key 'refine.t': must be in (0, 1), got 1e+308");
   EXPECT_EQ(reader_error(R"({"p": -0.5})", [](ObjectReader& r) { r.number("p", 1, Range::at_least(0)); }),
             "s.json: key 'refine.p': must be >= 0, got -0.5");
   EXPECT_EQ(reader_error(R"({"l": 9})", [](ObjectReader& r) { r.integer("l", 1, {1, 8}); }),

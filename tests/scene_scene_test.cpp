@@ -224,7 +224,7 @@ TEST_F(SceneFile, OverflowIsNamed) {
 TEST(SceneErrors, OutOfRangeMatchesTheDocumentedFormat) {
   json j = minimal();
   j["refine"] = {{"tau", -1}};
-  EXPECT_EQ(input_error([&] { parse_scene(j, "scene.json"); }), "scene.json: key 'refine.tau': must be > 0, got -1");
+  EXPECT_EQ(input_error([&] { parse_scene(j, "scene.json"); }), "scene.json: key 'refine.tau': must be in (0, 1), got -1");
 }
 
 TEST(SceneErrors, UnknownKeys) {
@@ -282,7 +282,7 @@ TEST(SceneErrors, OutOfRange) {
   EXPECT_EQ(patched_error(R"({"field": {"resolution": [1, 50, 50]}})"),
             "/jobs/bunny/scene.json: key 'field.resolution[0]': must be an integer in [2, 1024], got 1");
   EXPECT_EQ(patched_error(R"({"weights": {"offset": 0}})"),
-            "/jobs/bunny/scene.json: key 'weights.offset': must be > 0, got 0");
+            "/jobs/bunny/scene.json: key 'weights.offset': must be in (0, 1e+06), got 0");
   EXPECT_EQ(patched_error(R"({"refine": {"max_triangles": 0}})"),
             "/jobs/bunny/scene.json: key 'refine.max_triangles': must be an integer in [1, 50000000], got 0");
   EXPECT_EQ(patched_error(R"({"output": {"preview_frames": 1001}})"),

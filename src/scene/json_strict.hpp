@@ -47,6 +47,8 @@ struct Range {
   static Range closed(double lo, double hi) { return {lo, hi, false, false}; }
   /// [lo, hi)
   static Range half_open(double lo, double hi) { return {lo, hi, false, true}; }
+  /// (lo, hi)
+  static Range open(double lo, double hi) { return {lo, hi, true, true}; }
 
   bool contains(double v) const;
   /// "must be > 0", "must be in [0, 60)", ... (empty when every value is allowed).

@@ -116,9 +116,10 @@ FieldSettings read_field(ObjectReader r, const fs::path& dir) {
 
 WeightsSpec read_weights(ObjectReader r) {
   WeightsSpec w;
-  w.strength = r.number("strength", w.strength, Range::at_least(0.0));
-  w.distance = r.number("distance", w.distance, Range::at_least(0.0));
-  w.offset = r.number("offset", w.offset, Range::greater_than(0.0));
+  // ζ is in [0, 1] and d/D below 1: weights beyond 1e6 only drown the other terms in rounding.
+  w.strength = r.number("strength", w.strength, Range::closed(0.0, 1e6));
+  w.distance = r.number("distance", w.distance, Range::closed(0.0, 1e6));
+  w.offset = r.number("offset", w.offset, Range::open(0.0, 1e6));
   if (w.strength == 0.0 && w.distance == 0.0) {
     throw r.object_error("'strength' and 'distance' cannot both be 0 (the field would be constant)");
   }
@@ -136,10 +137,11 @@ PyramidSpec read_pyramid(ObjectReader r) {
 
 RefineSpec read_refine(ObjectReader r) {
   RefineSpec f;
-  f.tau = r.number("tau", f.tau, Range::greater_than(0.0));
-  f.delta = r.number("delta", f.delta, Range::greater_than(0.0));
-  f.step = r.number("step", f.step, Range::at_least(0.0));
-  f.tolerance = r.number("tolerance", f.tolerance, Range::greater_than(0.0));
+  // Fractions of the diagonal (tau, delta, step) and of E (tolerance): 1 and more mean nothing.
+  f.tau = r.number("tau", f.tau, Range::open(0.0, 1.0));
+  f.delta = r.number("delta", f.delta, Range::open(0.0, 1.0));
+  f.step = r.number("step", f.step, Range::half_open(0.0, 1.0));
+  f.tolerance = r.number("tolerance", f.tolerance, Range::open(0.0, 1.0));
   f.max_iterations = int(r.integer("max_iterations", f.max_iterations, {0, 100000}));
   f.max_triangles = r.integer("max_triangles", f.max_triangles, {1, 50000000});
   f.seed = std::uint64_t(r.integer("seed", std::int64_t(f.seed), IntRange::at_least(0)));
