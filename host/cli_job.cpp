@@ -106,12 +106,18 @@ int run_demo(const JobCliOptions& o) {
   // The generated inputs are real files in the user formats; they travel with the output
   // (OUT/input/) so the run can be repeated with `fracref refine OUT/input/NAME.json`.
   check_output_target(o.output);  // before anything is generated beside it
+  remove_stale_staging(o.output);
   fs::path input = fs::path(o.output).parent_path() /
                    (fs::path(o.output).filename().string() + ".input-tmp-" + std::to_string(::getpid()));
   fs::remove_all(input);
   struct Cleanup {
     fs::path p;
-    ~Cleanup() { std::error_code ec; fs::remove_all(p, ec); }
+    int slot = register_for_cleanup(p);
+    ~Cleanup() {
+      unregister_for_cleanup(slot);
+      std::error_code ec;
+      fs::remove_all(p, ec);
+    }
   } cleanup{input};
   fs::path scene_file = generate_demo_scene(o.scene, input, demo);
   Scene scene = load_with_overrides(scene_file, o.sets, true);

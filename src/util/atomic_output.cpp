@@ -2,7 +2,14 @@
 
 #include <set>
 
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <array>
+#include <cerrno>
+#include <atomic>
+#include <cstring>
 
 #include <fstream>
 #include <system_error>
@@ -34,6 +41,82 @@ void write_file_atomic(const fs::path& path, const std::string& bytes) {
   }
 }
 
+namespace {
+
+// Folders to remove if the process is interrupted (SIGINT, SIGTERM): fixed slots, as the handler
+// may not allocate. A slot is claimed with a compare-exchange and released by clearing it.
+constexpr std::size_t kSlots = 8, kPathBytes = 4096;
+std::array<std::array<char, kPathBytes>, kSlots> g_paths{};
+std::array<std::atomic<int>, kSlots> g_used{};
+
+// Removes the registered folders with `rm -rf` in a child (fork, exec and waitpid are
+// async-signal-safe; a recursive removal in the handler itself would not be), then exits with
+// 128 + the signal, as a shell reports an interrupted command.
+extern "C" void remove_staging_and_exit(int sig) {
+  for (std::size_t i = 0; i < kSlots; ++i) {
+    if (g_used[i].load() != 1) continue;
+    const pid_t child = fork();
+    if (child == 0) {
+      char* const argv[] = {const_cast<char*>("rm"), const_cast<char*>("-rf"), const_cast<char*>("--"),
+                            g_paths[i].data(), nullptr};
+      execv("/bin/rm", argv);
+      _exit(127);
+    }
+    if (child > 0) waitpid(child, nullptr, 0);
+  }
+  _exit(128 + sig);
+}
+
+void install_handlers() {
+  static std::atomic<bool> installed{false};
+  if (installed.exchange(true)) return;
+  struct sigaction sa {};
+  sa.sa_handler = remove_staging_and_exit;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+// Whether the folder beside `target` named "<target name><infix><pid>" belongs to a process that
+// is gone (a stale staging folder of an interrupted or killed run).
+bool stale(const fs::path& entry, const std::string& prefix) {
+  const std::string name = entry.filename().string();
+  if (name.rfind(prefix, 0) != 0 || name.size() == prefix.size()) return false;
+  const std::string digits = name.substr(prefix.size());
+  if (digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 9) return false;
+  const pid_t pid = pid_t(std::stol(digits));
+  return pid != ::getpid() && kill(pid, 0) != 0 && errno == ESRCH;
+}
+
+}  // namespace
+
+int register_for_cleanup(const fs::path& folder) {
+  install_handlers();
+  const std::string p = folder.string();
+  if (p.size() >= kPathBytes) return -1;
+  for (std::size_t i = 0; i < kSlots; ++i) {
+    int expected = 0;
+    if (!g_used[i].compare_exchange_strong(expected, 2)) continue;  // 2: being written
+    std::memcpy(g_paths[i].data(), p.c_str(), p.size() + 1);
+    g_used[i].store(1);
+    return int(i);
+  }
+  return -1;
+}
+
+void unregister_for_cleanup(int slot) {
+  if (slot >= 0 && std::size_t(slot) < kSlots) g_used[std::size_t(slot)].store(0);
+}
+
+void remove_stale_staging(const fs::path& target) {
+  std::error_code ec;
+  const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  const std::string base = target.filename().string();
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec))
+    for (const char* infix : {".tmp-", ".old-", ".input-tmp-"})
+      if (stale(e.path(), base + infix)) fs::remove_all(e.path(), ec);
+}
+
 void check_output_target(const fs::path& target) {
   std::error_code ec;
   const fs::file_status st = fs::symlink_status(target, ec);
@@ -58,15 +141,21 @@ void check_output_target(const fs::path& target) {
 StagedDirectory::StagedDirectory(fs::path target) : target_(std::move(target)) {
   if (target_.filename().empty()) target_ = target_.parent_path();
   check_output_target(target_);
+  remove_stale_staging(target_);
   staging_ = target_;
   staging_ += ".tmp-" + std::to_string(::getpid());
   std::error_code ec;
   fs::remove_all(staging_, ec);
+  cleanup_slot_ = register_for_cleanup(staging_);
   fs::create_directories(staging_, ec);
-  if (ec) throw RunError(target_.string() + ": cannot create output folder: " + ec.message());
+  if (ec) {
+    unregister_for_cleanup(cleanup_slot_);
+    throw RunError(target_.string() + ": cannot create output folder: " + ec.message());
+  }
 }
 
 StagedDirectory::~StagedDirectory() {
+  unregister_for_cleanup(cleanup_slot_);
   if (committed_) return;
   std::error_code ec;
   fs::remove_all(staging_, ec);
@@ -93,6 +182,7 @@ void StagedDirectory::commit() {
     throw RunError(target_.string() + ": cannot move the new output into place: " + ec.message());
   }
   committed_ = true;
+  unregister_for_cleanup(cleanup_slot_);
   if (had_old) fs::remove_all(old, ec);
 }
 

@@ -18,6 +18,17 @@ inline constexpr const char* kOutputMarker = ".fracref-output";
 /// \throw InputError naming `target` and what is in the way; nothing is touched.
 void check_output_target(const std::filesystem::path& target);
 
+/// Registers `folder` to be removed if the process gets SIGINT or SIGTERM (the handlers, installed
+/// on the first call, remove every registered folder and exit with 128 + the signal). Returns a
+/// slot for unregister_for_cleanup, or -1 when none is free (the folder is then not removed).
+int register_for_cleanup(const std::filesystem::path& folder);
+/// Forgets a folder registered by register_for_cleanup (-1: nothing).
+void unregister_for_cleanup(int slot);
+
+/// Removes the staging folders beside `target` ("<target>.tmp-<pid>", ".old-<pid>",
+/// ".input-tmp-<pid>") whose process is gone: what a killed run could not clean up.
+void remove_stale_staging(const std::filesystem::path& target);
+
 /// A staging folder beside `target` ("<target>.tmp-<pid>") that becomes `target` on commit().
 /// If commit() is never called the staging folder is removed, so a failed run leaves nothing
 /// half-written: `target` is either the previous complete output or the new complete one.
@@ -39,6 +50,7 @@ class StagedDirectory {
   std::filesystem::path target_;
   std::filesystem::path staging_;
   bool committed_ = false;
+  int cleanup_slot_ = -1;
 };
 
 }  // namespace fracref
