@@ -10,6 +10,7 @@
 #include "refine/collisions.hpp"
 #include "refine/containment.hpp"
 #include "refine/flips.hpp"
+#include "refine/motion_filters.hpp"
 #include "refine/samples.hpp"
 #include "refine/step_guard.hpp"
 #include "util/error.hpp"
@@ -50,7 +51,6 @@ class Refiner {
   void evaluate();
   void sample_new_vertices();
   double energy() const { return surface_energy(view(), samples_); }
-  std::vector<glm::dmat3> motion_filters() const;
   StepGuardOptions step_guard_options() const;
   void conform_boundary();
   // Containment splits: lengths in the scene's unit, nothing split below the sample spacing.
@@ -107,61 +107,6 @@ void Refiner::evaluate() {
   be_.vertex_velocities(view(), samples_, velocity_);
 }
 
-// The unit tangent of the curve of `kind` edges (boundary or junction) through each vertex with
-// exactly two of them; zero elsewhere.
-std::vector<glm::dvec3> curve_tangents(const FractureSurface& s, EdgeKind kind) {
-  std::vector<glm::dvec3> first(s.positions.size(), glm::dvec3(0.0)), tangent(s.positions.size(), glm::dvec3(0.0));
-  std::vector<std::uint8_t> count(s.positions.size(), 0);
-  for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
-    if (s.edge_special[e] != kind) continue;
-    const glm::uvec2 ab = s.edges[e];
-    glm::dvec3 dir = glm::dvec3(glm::vec3(s.positions[ab.y])) - glm::dvec3(glm::vec3(s.positions[ab.x]));
-    const double len = glm::length(dir);
-    if (len == 0.0) continue;
-    dir /= len;
-    for (std::uint32_t v : {ab.x, ab.y}) {
-      if (count[v] < 255 && count[v]++ == 0) first[v] = dir;
-      else if (count[v] == 2) tangent[v] = glm::dot(first[v], dir) >= 0.0 ? first[v] + dir : first[v] - dir;
-    }
-  }
-  for (std::size_t v = 0; v < tangent.size(); ++v) {
-    const double len = glm::length(tangent[v]);
-    tangent[v] = (count[v] == 2 && len > 0.0) ? tangent[v] / len : glm::dvec3(0.0);
-  }
-  return tangent;
-}
-
-glm::dmat3 onto_line(const glm::dvec3& u) { return glm::outerProduct(u, u); }
-glm::dmat3 off_line(const glm::dvec3& u) { return glm::dmat3(1.0) - glm::outerProduct(u, u); }
-
-// The motions the flow allows each vertex (the implicit step's filter). A vertex inside a sheet
-// moves freely: a sheet whose rim moves can only shrink if its vertices follow along it (held to
-// their normals, the bunny's finely sampled E fell by 16% instead of 33%). A vertex on B stays
-// unless options.rim_motion: the pieces stage cannot yet cut B along a rim that wandered (its
-// traces crossed on the bunny). With rim_motion a vertex on B slides on B across its rim curve (along the curve it would bunch the rim into slivers that no flip can
-// repair, as boundary edges are special); one where the rim is not a simple curve slides on B
-// freely. A junction vertex moves across its junction curve.
-std::vector<glm::dmat3> Refiner::motion_filters() const {
-  const std::vector<glm::dvec3> rim = curve_tangents(s_, kEdgeBoundary), junction = curve_tangents(s_, kEdgeNonManifold);
-  std::vector<glm::dmat3> out(s_.positions.size(), glm::dmat3(1.0));
-  parallel_chunks(out.size(), chunk_count(out.size(), 4096), kThreads, [&](std::size_t, std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      const std::uint32_t flags = s_.vertex_flags[i];
-      if ((flags & kVertexBoundary) && !o_.rim_motion) {
-        out[i] = glm::dmat3(0.0);
-      } else if (flags & kVertexBoundary) {
-        const glm::dvec3 nb = b_.normal(closest_point(b_.bvh, glm::dvec3(glm::vec3(s_.positions[i]))).triangle);
-        const glm::dvec3 across = glm::cross(nb, rim[i]);
-        const double len = glm::length(across);
-        out[i] = len > 0.5 ? onto_line(across / len) : off_line(nb);
-      } else if ((flags & kVertexNonManifold) && junction[i] != glm::dvec3(0.0)) {
-        out[i] = off_line(junction[i]);
-      }
-    }
-  });
-  return out;
-}
-
 // B's normal at the middle of each rim face's boundary edge (step_guard.hpp).
 StepGuardOptions Refiner::step_guard_options() const {
   StepGuardOptions g;
@@ -181,7 +126,7 @@ StepGuardOptions Refiner::step_guard_options() const {
 // edit; each evaluation is a kernel call, with a fixed cost on Vulkan).
 bool Refiner::flow_step(double ceiling, IterationStats& st) {
   const double e0 = ceiling;
-  const std::vector<glm::dmat3> filter = motion_filters();
+  const std::vector<glm::dmat3> filter = motion_filters(s_, b_, {.rim_motion = o_.rim_motion, .threads = kThreads});
   std::vector<glm::dvec3> d(s_.positions.size());
   for (std::size_t i = 0; i < d.size() && i < last_move_.size(); ++i) d[i] = glm::dvec3(last_move_[i]);
   st.solver_iterations = implicit_step(view(), samples_, velocity_, dt_, filter, d, {.threads = kThreads}).iterations;
