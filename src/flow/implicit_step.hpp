@@ -1,6 +1,6 @@
 #pragma once
-// The semi-implicit flow step (DESIGN.md, "The flow step"): the area term of E, which is stiff,
-// taken at the end of the step; the material term ∇ψ explicit.
+// The semi-implicit flow step (the implicit fairing of Desbrun, Meyer, Schröder and Barr 1999):
+// the area term of E, which is stiff, taken at the end of the step; the material term ∇ψ explicit.
 //
 // Derivation. E(S) = Σ_j A_j ψ̄_j. With the cotangents and ψ̄_j frozen at the current positions,
 // the area part of ∂E/∂x_i is linear in the positions (Pinkall and Polthier 1993):
