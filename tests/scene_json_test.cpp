@@ -315,3 +315,18 @@ TEST(RangeDescribe, Texts) {
 
 }  // namespace
 }  // namespace fracref
+
+// Deep nesting is an error naming the key, not a stack overflow in the code that walks the
+// document (100,000 nested arrays overflowed the message that printed the wrong-typed value).
+TEST(StrictJson, DeepNestingIsAnError) {
+  const std::string deep = "{\"exterior\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
+  try {
+    fracref::parse_json_strict(deep, "s.json");
+    FAIL() << "accepted";
+  } catch (const fracref::InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("s.json: key 'exterior[0][0]", 0), 0u) << e.what();
+    EXPECT_NE(std::string(e.what()).find("nested deeper than 64 levels"), std::string::npos) << e.what();
+  }
+  std::string ok = "{\"a\": " + std::string(60, '[') + std::string(60, ']') + "}";
+  EXPECT_NO_THROW(fracref::parse_json_strict(ok, "s.json"));
+}

@@ -58,6 +58,7 @@ class StrictSax {
   bool binary(json::binary_t& v) { return put(json::binary(v)) != nullptr; }
 
   bool start_object(std::size_t) {
+    check_depth();
     frames_.push_back(Frame{put(json::object()), true, {}, {}});
     return true;
   }
@@ -74,6 +75,7 @@ class StrictSax {
     return true;
   }
   bool start_array(std::size_t) {
+    check_depth();
     frames_.push_back(Frame{put(json::array()), false, {}, {}});
     return true;
   }
@@ -103,6 +105,17 @@ class StrictSax {
     std::set<std::string> keys;
     std::string key;  // the key whose value comes next
   };
+
+  // A scene is a few levels deep; the code that walks a document (copies, messages that print a
+  // value) recurses, and 100,000 nested arrays overflowed its stack.
+  static constexpr std::size_t kMaxDepth = 64;
+  void check_depth() const {
+    if (frames_.size() < kMaxDepth) return;
+    const Frame& f = frames_.back();
+    const std::string at = f.is_object ? path_to(f.key) : path_to_index(f.node->size());
+    throw InputError(file_ + ": key '" + at.substr(0, 120) + (at.size() > 120 ? "..." : "") +
+                     "': nested deeper than " + std::to_string(kMaxDepth) + " levels");
+  }
 
   json* put(json value) {
     if (frames_.empty()) {
