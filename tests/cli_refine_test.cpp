@@ -3,6 +3,8 @@
 // that are either complete or untouched.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 
 #include "cube_scene.hpp"
@@ -221,4 +223,16 @@ TEST(CliRefine, OutputRefusesUserFilesAndFolders) {
   for (const auto& e : fs::directory_iterator(t.path)) left.push_back(e.path().filename().string());
   std::sort(left.begin(), left.end());
   EXPECT_EQ(left, (std::vector<std::string>{"out", "proj"}));  // no staging or input folders left
+}
+
+// A field that would not fit in memory is refused up front, naming the key and the estimate,
+// before any file is read (it ended in a bare std::bad_alloc after minutes).
+TEST(CliRefine, FieldTooLargeForTheMachineIsRefusedUpFront) {
+  if (double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE)) > 80e9) GTEST_SKIP() << "this machine has the memory";
+  TempDir t;
+  const fs::path s = t.write("big.json", R"({"exterior": "missing.obj", "fracture": {"kind": "tets", "mesh": "missing.mesh"},
+                                           "field": {"type": "marble", "resolution": [1024, 1024, 1024]}})");
+  const auto r = run("refine " + s.string() + " -o " + (t.path / "out").string() + " --backend cpu");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("big.json: key 'field.resolution': [1024, 1024, 1024] needs about 68.7 GB"), std::string::npos) << r.err;
 }

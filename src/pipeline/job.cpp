@@ -1,6 +1,9 @@
 #include "pipeline/job.hpp"
 
+#include <unistd.h>
+
 #include <chrono>
+#include <sstream>
 
 #include "coarse/animation.hpp"
 #include "coarse/coarse_model.hpp"
@@ -114,9 +117,33 @@ RefineOptions refine_options(const Scene& scene, const JobOptions& o, double dia
   return r;
 }
 
+// The field's grids take about this many bytes a node: ζ, the distance, ψ and the pyramid's levels
+// (4 bytes each, the pyramid ~1.15 times the base), the (ψ, ∇ψ) grid (16), and the copies a
+// backend keeps (the Vulkan one uploads the pyramid and the field).
+constexpr double kFieldBytesPerNode = 64.0;
+
+// Refuses, before anything is read, a field resolution whose grids would not fit in this machine's
+// memory (it ended in a bare std::bad_alloc after minutes).
+void check_field_memory(const Scene& scene) {
+  const glm::uvec3 r = scene.field.resolution;
+  const double bytes = kFieldBytesPerNode * double(r.x) * double(r.y) * double(r.z);
+  const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
+  if (!(memory > 0.0) || bytes <= 0.8 * memory) return;
+  auto gb = [](double b) {
+    std::ostringstream s;
+    s.precision(3);
+    s << b / 1e9 << " GB";
+    return s.str();
+  };
+  throw InputError(scene.file.string() + ": key 'field.resolution': [" + std::to_string(r.x) + ", " + std::to_string(r.y) +
+                   ", " + std::to_string(r.z) + "] needs about " + gb(bytes) + " for the field, more than this machine's " +
+                   gb(memory) + " of memory allows: lower the resolution");
+}
+
 }  // namespace
 
 nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeBackend& inner, const JobOptions& o) {
+  check_field_memory(scene);
   const auto t0 = Clock::now();
   TimedBackend backend(inner);  // the kernels' share of set-up and refine, for the report
   auto progress = [&](const std::string& stage, double f, const std::string& d) {
