@@ -219,6 +219,13 @@ TEST(CliRefine, OutputRefusesUserFilesAndFolders) {
   std::ofstream(out / "mine.txt") << "mine\n";
   EXPECT_EQ(run("demo branch -o " + out.string() + " --backend cpu -q --stop-after preprocess").code, 2);
   EXPECT_EQ(slurp(out / "mine.txt"), "mine\n");
+  // An output of a fracref from before the marker (report.json and fracref's names only) is replaced.
+  const fs::path old = t.path / "old";
+  fs::create_directories(old / "pieces");
+  std::ofstream(old / "report.json") << "{}\n";
+  EXPECT_EQ(run("demo branch -o " + old.string() + " --backend cpu -q --stop-after preprocess").code, 0);
+  EXPECT_TRUE(fs::exists(old / ".fracref-output"));
+  fs::remove_all(old);
   std::vector<std::string> left;
   for (const auto& e : fs::directory_iterator(t.path)) left.push_back(e.path().filename().string());
   std::sort(left.begin(), left.end());

@@ -127,7 +127,14 @@ void check_output_target(const fs::path& target) {
   std::set<std::string> wrote;
   std::ifstream marker(target / kOutputMarker);
   for (std::string line; marker && std::getline(marker, line);) wrote.insert(line);
-  const bool ours = bool(std::ifstream(target / kOutputMarker));
+  bool ours = bool(std::ifstream(target / kOutputMarker));
+  // An output folder of a fracref from before the marker: report.json and only the names fracref
+  // writes (so that rerunning a command into its old output keeps working).
+  if (!ours && fs::exists(target / "report.json", ec)) {
+    wrote = {"report.json", "preview.png", "preview_surface.png", "preview_frames.png", "coarse_surface.ply",
+             "fracture_surface.ply", "exterior.ply", "pieces", "frames", "animation.glb", "input"};
+    ours = true;
+  }
   for (const fs::directory_entry& e : fs::directory_iterator(target, ec)) {
     const std::string name = e.path().filename().string();
     if (name == kOutputMarker || wrote.count(name)) continue;

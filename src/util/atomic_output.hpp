@@ -14,7 +14,8 @@ void write_file_atomic(const std::filesystem::path& path, const std::string& byt
 inline constexpr const char* kOutputMarker = ".fracref-output";
 
 /// Whether `target` may become an output folder: it does not exist, or it is an empty folder, or a
-/// folder that fracref wrote (kOutputMarker) holding only what the marker names.
+/// folder that fracref wrote (kOutputMarker) holding only what the marker names, or one without a
+/// marker (written before it) holding report.json and only the names fracref writes.
 /// \throw InputError naming `target` and what is in the way; nothing is touched.
 void check_output_target(const std::filesystem::path& target);
 
