@@ -65,6 +65,22 @@ TEST(BatchBenchReport, RecordRunReadsEveryStageTheFinalEnergyAndTheCounts) {
   EXPECT_TRUE(pre.refine.empty());
 }
 
+// The refinement's stop reason and quality, the last run's (absent before refine).
+TEST(BatchBenchReport, RecordRunReadsTheStopReasonAndTheQuality) {
+  SceneBenchResult r;
+  record_run(ordered_json::parse(R"({"refined_triangles": 40, "stop_reason": "converged",
+      "quality": {"energy_ratio": 0.7, "weak_fraction": {"coarse": 0.2, "refined": 0.3, "threshold": 0.25}}})"),
+             r);
+  EXPECT_EQ(r.stop_reason, std::optional<std::string>("converged"));
+  EXPECT_EQ(r.energy_ratio, std::optional<double>(0.7));
+  EXPECT_EQ(r.weak_coarse, std::optional<double>(0.2));
+  EXPECT_EQ(r.weak_refined, std::optional<double>(0.3));
+  record_run(ordered_json::parse(R"({"coarse_triangles": 8})"), r);
+  EXPECT_FALSE(r.stop_reason.has_value());
+  EXPECT_FALSE(r.energy_ratio.has_value());
+  EXPECT_FALSE(r.weak_refined.has_value());
+}
+
 TEST(BatchBenchReport, CompareBackendsPairsRunsAndAddsStartUp) {
   const std::vector<SceneComparison> c = compare_backends(hand_made_results());
   ASSERT_EQ(c.size(), 2u);
