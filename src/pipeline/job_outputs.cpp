@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "field/field_sampler.hpp"
 #include "pipeline/surface_preview.hpp"
@@ -206,6 +207,7 @@ Image preview_pieces(const PieceSet& set, const Grid3* zeta) {
   const glm::dvec3 centre = 0.5 * (lo + hi);
   // Far enough apart that the fracture faces between the pieces are seen.
   const double explode = 0.6;
+  const std::optional<StrengthRamp> ramp = zeta ? std::optional<StrengthRamp>(std::in_place, *zeta) : std::nullopt;
   std::vector<PreviewMesh> meshes;
   for (std::size_t p = 0; p < set.pieces.size(); ++p) {
     const PieceSet::Piece& piece = set.pieces[p];
@@ -219,10 +221,9 @@ Image preview_pieces(const PieceSet& set, const Grid3* zeta) {
       for (int k = 0; k < 3; ++k) m.positions.push_back(set.positions[piece.triangles[f][k]] + shift);
       m.triangles.push_back({base, base + 1, base + 2});
       glm::vec3 color(0.86f, 0.86f, 0.88f);
-      if (piece.inside[f] && zeta) {
-        const glm::dvec3 c =
-            (set.positions[piece.triangles[f][0]] + set.positions[piece.triangles[f][1]] + set.positions[piece.triangles[f][2]]) / 3.0;
-        color = strength_color(normalized_strength(*zeta, c));
+      if (piece.inside[f] && ramp) {
+        color = ramp->at(
+            (set.positions[piece.triangles[f][0]] + set.positions[piece.triangles[f][1]] + set.positions[piece.triangles[f][2]]) / 3.0);
       } else if (piece.inside[f]) {
         color = piece_color(int(p));
       }

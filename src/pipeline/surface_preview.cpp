@@ -8,6 +8,8 @@
 
 namespace fracref {
 
+namespace {
+
 glm::vec3 strength_color(double t) {
   static const std::array<glm::vec3, 5> stops = {glm::vec3(0.16f, 0.05f, 0.30f), glm::vec3(0.55f, 0.10f, 0.45f),
                                                  glm::vec3(0.90f, 0.30f, 0.20f), glm::vec3(0.98f, 0.65f, 0.20f),
@@ -18,11 +20,16 @@ glm::vec3 strength_color(double t) {
   return stops[i] * (1.0f - f) + stops[i + 1] * f;
 }
 
-double normalized_strength(const Grid3& zeta, const glm::dvec3& p) {
-  if (zeta.values.empty()) return 0.5;
+}  // namespace
+
+StrengthRamp::StrengthRamp(const Grid3& zeta) : zeta_(zeta) {
+  if (zeta.values.empty()) return;
   const auto [lo, hi] = std::minmax_element(zeta.values.begin(), zeta.values.end());
-  const double range = double(*hi) - double(*lo);
-  return range > 0.0 ? (sample_trilinear(zeta, p) - double(*lo)) / range : 0.5;
+  lo_ = double(*lo), range_ = double(*hi) - double(*lo);
+}
+
+glm::vec3 StrengthRamp::at(const glm::dvec3& p) const {
+  return strength_color(range_ > 0.0 ? (sample_trilinear(zeta_, p) - lo_) / range_ : 0.5);
 }
 
 namespace {
@@ -47,14 +54,11 @@ glm::dvec3 widest_view(const PreviewMesh& m) {
 
 Image preview_strength_surface(const FractureSurface& s, const Grid3& zeta, int width, int height) {
   PreviewMesh m;
-  const auto [lo, hi] = std::minmax_element(zeta.values.begin(), zeta.values.end());
-  const double range = zeta.values.empty() ? 0.0 : double(*hi) - double(*lo);
+  const StrengthRamp ramp(zeta);
   for (const glm::vec4& p : s.positions) m.positions.push_back(glm::dvec3(glm::vec3(p)));
   for (const glm::uvec4& f : s.faces) {
     m.triangles.push_back({f.x, f.y, f.z});
-    const glm::dvec3 c = (m.positions[f.x] + m.positions[f.y] + m.positions[f.z]) / 3.0;
-    const double t = range > 0.0 ? (sample_trilinear(zeta, c) - double(*lo)) / range : 0.5;
-    m.triangle_colors.push_back(strength_color(t));
+    m.triangle_colors.push_back(ramp.at((m.positions[f.x] + m.positions[f.y] + m.positions[f.z]) / 3.0));
   }
   RenderOptions ro;
   ro.width = width;

@@ -8,12 +8,19 @@
 
 namespace fracref {
 
-/// ζ's colour: a ramp from dark purple (weak) through red and orange to pale yellow (strong),
-/// `t` ζ normalised to [0, 1] by the grid's range.
-glm::vec3 strength_color(double t);
+/// ζ's colours: a ramp from dark purple (weak) through red and orange to pale yellow (strong)
+/// over the range of ζ on its grid (found once; the middle colour for a constant grid).
+class StrengthRamp {
+ public:
+  /// \pre `zeta` outlives the ramp.
+  explicit StrengthRamp(const Grid3& zeta);
+  /// The colour of ζ at p.
+  glm::vec3 at(const glm::dvec3& p) const;
 
-/// ζ at p normalised to [0, 1] by the range of ζ over its grid (0.5 for a constant grid).
-double normalized_strength(const Grid3& zeta, const glm::dvec3& p);
+ private:
+  const Grid3& zeta_;
+  double lo_ = 0.0, range_ = 0.0;
+};
 
 /// The fracture surface alone, each face coloured by ζ at its centroid, seen along the candidate
 /// direction (the 3 axes and the 4 diagonals, both ways) in which its projected area is largest.
