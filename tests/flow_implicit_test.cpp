@@ -17,12 +17,8 @@ using fracref::test::linear_field;
 namespace {
 
 /// An n×n grid sheet over [-1, 1]² at height h(x, y), with its vertex→faces CSR.
-struct Sheet {
-  std::vector<glm::vec4> positions;
-  std::vector<glm::uvec4> faces;
-  std::vector<std::uint32_t> vf_offsets, vf_faces;
+struct Sheet : fracref::test::FlatMesh {
   std::vector<glm::vec4> samples, velocity;
-  SurfaceView view() const { return {positions, faces, vf_offsets, vf_faces}; }
 };
 
 template <class Height>
@@ -39,14 +35,7 @@ Sheet sheet(int n, Height h, const FieldGrid4& field) {
       s.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), 0});
       s.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1), 0});
     }
-  s.vf_offsets.assign(s.positions.size() + 1, 0);
-  for (auto& f : s.faces)
-    for (int k = 0; k < 3; ++k) ++s.vf_offsets[f[k] + 1];
-  for (std::size_t i = 0; i < s.positions.size(); ++i) s.vf_offsets[i + 1] += s.vf_offsets[i];
-  s.vf_faces.resize(s.vf_offsets.back());
-  std::vector<std::uint32_t> fill(s.vf_offsets.begin(), s.vf_offsets.end() - 1);
-  for (std::uint32_t f = 0; f < s.faces.size(); ++f)
-    for (int k = 0; k < 3; ++k) s.vf_faces[fill[s.faces[f][k]]++] = f;
+  s.build_csr();
   s.samples.resize(s.positions.size());
   s.velocity.resize(s.positions.size());
   sample_vertices_cpu(field, s.positions, s.samples, 1);

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "field/field_sampler.hpp"
+#include "flow/velocity.hpp"
 
 namespace fracref::test {
 
@@ -20,5 +21,28 @@ inline FieldGrid4 linear_field(float c, glm::vec3 g) {
       }
   return f;
 }
+
+/// The vertex -> faces CSR of `faces` over n vertices (faces ascending per vertex).
+inline void vertex_face_csr(std::size_t n, const std::vector<glm::uvec4>& faces, std::vector<std::uint32_t>& offsets,
+                            std::vector<std::uint32_t>& list) {
+  offsets.assign(n + 1, 0);
+  for (const glm::uvec4& f : faces)
+    for (int k = 0; k < 3; ++k) ++offsets[f[k] + 1];
+  for (std::size_t i = 0; i < n; ++i) offsets[i + 1] += offsets[i];
+  list.assign(offsets.back(), 0);
+  std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+  for (std::uint32_t j = 0; j < faces.size(); ++j)
+    for (int k = 0; k < 3; ++k) list[fill[faces[j][k]]++] = j;
+}
+
+/// A triangle mesh as the flow kernels see it: flat arrays and the vertex -> faces CSR.
+struct FlatMesh {
+  std::vector<glm::vec4> positions;
+  std::vector<glm::uvec4> faces;
+  std::vector<std::uint32_t> vf_offsets, vf_faces;
+
+  void build_csr() { vertex_face_csr(positions.size(), faces, vf_offsets, vf_faces); }
+  SurfaceView view() const { return {positions, faces, vf_offsets, vf_faces}; }
+};
 
 }  // namespace fracref::test

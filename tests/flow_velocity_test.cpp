@@ -12,23 +12,7 @@ using fracref::test::linear_field;
 
 namespace {
 
-struct Mesh {
-  std::vector<glm::vec4> positions;
-  std::vector<glm::uvec4> faces;
-  std::vector<std::uint32_t> vf_offsets, vf_faces;
-
-  void build_csr() {
-    vf_offsets.assign(positions.size() + 1, 0);
-    for (auto& f : faces)
-      for (int k = 0; k < 3; ++k) ++vf_offsets[f[k] + 1];
-    for (std::size_t i = 0; i < positions.size(); ++i) vf_offsets[i + 1] += vf_offsets[i];
-    vf_faces.assign(vf_offsets.back(), 0);
-    std::vector<std::uint32_t> fill(vf_offsets.begin(), vf_offsets.end() - 1);
-    for (std::uint32_t j = 0; j < faces.size(); ++j)
-      for (int k = 0; k < 3; ++k) vf_faces[fill[faces[j][k]]++] = j;
-  }
-  SurfaceView view() const { return {positions, faces, vf_offsets, vf_faces}; }
-};
+using Mesh = fracref::test::FlatMesh;
 
 /// A fan of `n` triangles around vertex 0 with rim vertices at the given heights.
 Mesh fan(int n, const std::vector<float>& heights, float radius_wobble) {
