@@ -24,6 +24,10 @@ void add_bench_command(CLI::App& app, Action& action);
 void add_batch_command(CLI::App& app, Action& action);
 void add_check_command(CLI::App& app, Action& action);
 
+/// Adds `--threads N` to `sub`: the worker threads of everything the command runs
+/// (set_default_threads); without it, every hardware thread.
+void add_threads_option(CLI::App* sub);
+
 /// True when stderr is a terminal: progress lines are shown only then.
 bool stderr_is_terminal();
 

@@ -20,13 +20,13 @@ std::unique_ptr<ComputeBackend> choose_automatically(bool quiet) {
   } catch (const RunError& e) {
     if (!quiet) std::cerr << "fracref: backend auto -> cpu (" << e.what() << ")\n";
   }
-  return make_cpu_backend(2);
+  return make_cpu_backend();
 }
 
 }  // namespace
 
 std::unique_ptr<ComputeBackend> make_backend(const std::string& name, bool quiet) {
-  if (name == "cpu") return make_cpu_backend(2);
+  if (name == "cpu") return make_cpu_backend();
   if (name == "vulkan") return make_vulkan_backend();
   if (name == "auto") return choose_automatically(quiet);
   throw InputError("--backend: unknown backend '" + name + "' (cpu, vulkan, auto)");

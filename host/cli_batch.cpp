@@ -3,12 +3,14 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <optional>
 
 #include "batch/runner.hpp"
+#include "util/parallel.hpp"
 #include "cli.hpp"
 #include "cli_progress.hpp"
 #include "scenegen/scenegen.hpp"
@@ -22,6 +24,7 @@ struct BatchCliOptions {
   std::string manifest;
   std::string output;
   int parallel = 1;
+  int threads = 0;
   std::string backend = "auto";
   std::string stop_after;
   std::vector<std::string> only;
@@ -64,6 +67,8 @@ int run_batch_command(const BatchCliOptions& c) {
   o.exe = self_executable();
   o.out = c.output.empty() ? default_output(m.file) : fs::absolute(c.output).lexically_normal();
   o.parallel = c.parallel;
+  // Jobs side by side share the machine's threads rather than each taking all of them.
+  o.threads = c.threads > 0 ? c.threads : std::max(1, default_threads() / std::max(1, c.parallel));
   o.backend = c.backend;
   o.stop_after = c.stop_after;
   o.only = c.only;
@@ -104,6 +109,8 @@ void add_batch_command(CLI::App& app, Action& action) {
   sub->add_option("manifest", c->manifest, "manifest file (JSON)")->required();
   sub->add_option("-o,--output", c->output, "output folder (default: MANIFEST without .json, plus .out)");
   sub->add_option("-j,--jobs", c->parallel, "run at most N jobs at once (default 1)")->check(CLI::PositiveNumber);
+  sub->add_option("--threads", c->threads, "worker threads of each job (default: the machine's hardware threads / --jobs)")
+      ->check(CLI::PositiveNumber);
   sub->add_option("--backend", c->backend, "backend of the jobs that name none: cpu, vulkan or auto")
       ->check(CLI::IsMember({"cpu", "vulkan", "auto"}));
   sub->add_option("--stop-after", c->stop_after, "last stage of the jobs that name none")

@@ -15,6 +15,7 @@
 #include "scenegen/scenegen.hpp"
 #include "util/atomic_output.hpp"
 #include "util/error.hpp"
+#include "util/parallel.hpp"
 #include "vk_backend.hpp"
 
 namespace fracref::cli {
@@ -24,6 +25,7 @@ namespace {
 struct BenchCliOptions {
   std::vector<std::string> scenes;
   std::vector<std::string> backends = {"cpu", "vulkan"};
+  std::vector<std::string> threads;  ///< extra CPU rows: thread counts, or "all"
   int repeat = 3;
   std::string json;
   std::string stop_after = "animate";
@@ -56,13 +58,14 @@ std::vector<std::unique_ptr<ComputeBackend>> make_backends(const std::vector<std
   std::vector<std::unique_ptr<ComputeBackend>> owned;
   for (const std::string& key : keys) {
     BenchBackend b{key, nullptr, ""};
+    if (key.rfind("cpu:", 0) == 0) b.threads = std::stoi(key.substr(4));
     try {
       std::vector<double> seconds;
       std::unique_ptr<ComputeBackend> made;
       for (int k = 0; k < kStartups; ++k) {
         made.reset();
         const auto t0 = std::chrono::steady_clock::now();
-        made = key == "cpu" ? make_cpu_backend(2) : make_vulkan_backend();
+        made = key == "vulkan" ? make_vulkan_backend() : make_cpu_backend(b.threads > 0 ? b.threads : default_threads());
         seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
       }
       std::nth_element(seconds.begin(), seconds.begin() + kStartups / 2, seconds.end());
@@ -109,6 +112,23 @@ void check_options(BenchCliOptions& o) {
       throw InputError("bench: --scenes: unknown scene '" + s + "' (available: bunny, branch, wall, clay, jello)");
   for (const std::string& b : o.backends)
     if (b != "cpu" && b != "vulkan") throw InputError("bench: --backends: unknown backend '" + b + "' (cpu, vulkan)");
+  // Each thread count becomes a CPU backend "cpu:N", compared with "cpu" (every hardware thread).
+  for (const std::string& t : o.threads) {
+    int n = 0;
+    if (t == "all") {
+      n = default_threads();
+    } else {
+      std::size_t used = 0;
+      try {
+        n = std::stoi(t, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != t.size() || n < 1 || n > 4096)
+        throw InputError("bench: --threads: '" + t + "' is not a thread count (1 to 4096) or 'all'");
+    }
+    o.backends.push_back("cpu:" + std::to_string(n));
+  }
   for (std::size_t s : o.kernel_sizes)
     if (s < 4) throw InputError("bench: --kernel-sizes: a size must be at least 4 vertices, got " + std::to_string(s));
 }
@@ -164,6 +184,10 @@ void add_bench_command(CLI::App& app, Action& action) {
               "so compare backends within one run. Exit code 1 when a run failed (an unavailable backend is not a failure).");
   sub->add_option("--scenes", o->scenes, "demo scenes, comma separated (default: all five)")->delimiter(',');
   sub->add_option("--backends", o->backends, "backends, comma separated: cpu, vulkan (default both)")->delimiter(',');
+  sub->add_option("--threads", o->threads,
+                  "also run the CPU backend on these thread counts, comma separated, e.g. 1,2,4,all (rows cpu:N, "
+                  "compared with cpu on every hardware thread)")
+      ->delimiter(',');
   sub->add_option("--repeat", o->repeat, "runs of each measurement (default 3)")->check(CLI::PositiveNumber);
   sub->add_option("--json", o->json, "also write the results as JSON to this file");
   sub->add_option("--stop-after", o->stop_after, "last stage of the scene runs (default animate: the whole pipeline)")

@@ -35,6 +35,7 @@ void add_check_command(CLI::App& app, Action& action) {
       "check", "Re-verify an output folder: pieces closed, manifold, outward, intersection-free, partition, frames, glb");
   sub->add_option("folder", opts->folder, "output folder written by refine or demo")->required();
   sub->add_flag("--json", opts->json, "print one JSON object");
+  add_threads_option(sub);
   sub->footer("Exit codes: 0 every check passed; 1 a check failed (each failure names the piece or frame);\n"
               "2 the folder is not a fracref output or a file in it cannot be read.");
   sub->callback([opts, &action] { action = [opts] { return run_check(*opts); }; });

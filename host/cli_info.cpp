@@ -60,6 +60,7 @@ void add_info_command(CLI::App& app, Action& action) {
   CLI::App* sub = app.add_subcommand("info", "Print what the strict mesh reader sees in FILE (OBJ, OFF, PLY)");
   sub->add_option("file", opts->file, "mesh file")->required();
   sub->add_flag("--json", opts->json, "print one JSON object");
+  add_threads_option(sub);
   sub->callback([opts, &action] { action = [opts] { return run_info(*opts); }; });
 }
 

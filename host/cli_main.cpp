@@ -5,9 +5,16 @@
 
 #include "cli.hpp"
 #include "util/error.hpp"
+#include "util/parallel.hpp"
 #include "version.hpp"
 
 namespace fracref::cli {
+
+void add_threads_option(CLI::App* sub) {
+  sub->add_option_function<int>("--threads", [](const int& n) { set_default_threads(n); },
+                                "worker threads (default: every hardware thread; the output does not depend on it)")
+      ->check(CLI::PositiveNumber);
+}
 
 bool stderr_is_terminal() { return ::isatty(STDERR_FILENO) == 1; }
 

@@ -19,6 +19,7 @@ void add_job_options(CLI::App* sub, JobCliOptions& o) {
   sub->add_option("--preview-frames", o.preview_frames, "also render a contact sheet of N animation frames");
   sub->add_option("--set", o.sets, "override a scene key, e.g. --set refine.tau=0.001 (repeatable)");
   sub->add_flag("-q,--quiet", o.quiet, "no progress line");
+  add_threads_option(sub);
 }
 
 }  // namespace

@@ -69,6 +69,25 @@ TEST(CliRefine, SameSeedSameBytes) {
   EXPECT_EQ(slurp(t.path / "a" / "fracture_surface.ply"), slurp(t.path / "b" / "fracture_surface.ply"));
 }
 
+TEST(CliRefine, AnyThreadCountGivesTheSameBytes) {
+  TempDir t;
+  t.write("cube.obj", kCube);
+  t.write("cube.mesh", cube_mesh(3));
+  auto s = t.write("scene.json", scene(""));
+  for (const char* n : {"1", "4"})
+    ASSERT_EQ(run("refine " + s.string() + " -o " + (t.path / n).string() + " --backend cpu -q --threads " + n).code, 0);
+  std::size_t compared = 0;
+  for (auto& e : fs::recursive_directory_iterator(t.path / "1")) {
+    if (!e.is_regular_file() || e.path().filename() == "report.json") continue;
+    const fs::path other = t.path / "4" / fs::relative(e.path(), t.path / "1");
+    EXPECT_EQ(slurp(e.path()), slurp(other)) << other;
+    ++compared;
+  }
+  EXPECT_GT(compared, 5u);
+  EXPECT_NE(slurp(t.path / "4" / "report.json").find("\"threads\": 4"), std::string::npos);
+  EXPECT_EQ(run("refine " + s.string() + " -o " + (t.path / "0").string() + " --threads 0").code, 2);
+}
+
 TEST(CliRefine, BadSceneNamesTheKeyAndLeavesTheOutputAlone) {
   TempDir t;
   t.write("cube.obj", kCube);

@@ -27,6 +27,8 @@ struct BenchBackend {
   /// A job creates its backend once, outside report.json's seconds, and the bench shares one
   /// backend between its runs: the Vulkan/CPU ratio adds this to every run.
   double startup_seconds = 0.0;
+  /// Worker threads of its runs (the CPU kernels and every other stage); 0 = default_threads().
+  int threads = 0;
 };
 
 /// Reports progress: what runs now and the fraction of all runs done.

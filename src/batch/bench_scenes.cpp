@@ -45,6 +45,13 @@ void run_once(const Scene& scene, const BenchBackend& backend, const SceneBenchO
   } remove{out};
   JobOptions jo;
   jo.stop_after = o.stop_after;
+  struct Threads {
+    int before = default_threads();
+    explicit Threads(int n) {
+      if (n > 0) set_default_threads(n);
+    }
+    ~Threads() { set_default_threads(before); }
+  } threads(backend.threads);
   record_run(run_job(scene, out, *backend.backend, jo), r);
 }
 

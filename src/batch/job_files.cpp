@@ -102,6 +102,7 @@ std::vector<std::string> job_command(const BatchJob& job, const BatchRunOptions&
   const std::string stop = effective(job.stop_after, options.stop_after);
   if (!stop.empty()) args.insert(args.end(), {"--stop-after", stop});
   if (job.seed) args.insert(args.end(), {"--seed", std::to_string(*job.seed)});
+  if (options.threads > 0) args.insert(args.end(), {"--threads", std::to_string(options.threads)});
   return args;
 }
 

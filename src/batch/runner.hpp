@@ -54,6 +54,7 @@ struct BatchRunOptions {
   std::string backend = "auto";   ///< for jobs that name none
   std::string stop_after;         ///< for jobs that name none; "" = the job command's default
   std::vector<std::string> only;  ///< run only these job ids; empty = every job
+  int threads = 0;                ///< worker threads of each job (--threads); 0 = the job's default
   bool summary_only = false;      ///< run nothing; report every job from its folder
   /// Writes demo `name`'s inputs into `folder` and returns its scene file; used for demo jobs
   /// with scene overrides (they run `refine` on the generated scene). Empty: such jobs fail.

@@ -250,7 +250,7 @@ Grid3 sample_strength(const FieldSpec& spec, glm::dvec3 bbox_min, glm::dvec3 bbo
                                                         : detail::make_frame(spec, bbox_min, bbox_max);
   const PerlinNoise noise(spec.seed);
   const auto material = detail::make_material(spec, noise, frame);
-  const unsigned n = std::clamp(threads, 1u, resolution.z);
+  const unsigned n = std::clamp(threads == 0 ? unsigned(default_threads()) : threads, 1u, resolution.z);
   // Chunk t fills the z-slices t, t+n, ... (interleaved, so that each thread samples every part of the box);
   // each slice is computed on its own, so the values never depend on how many threads ran.
   parallel_chunks(n, n, int(n),

@@ -175,12 +175,12 @@ double strength_at(const FieldSpec& spec, const PerlinNoise& noise, glm::dvec3 p
 /// exactly; along the others the node span (n_a - 1)·cell >= extent_a is centred on the box, so
 /// origin_a = centre_a - cell·(n_a - 1)/2 (equal to bbox_min_a on the maximal axis).
 /// The material frame is spec.object_min/max, or [bbox_min, bbox_max] when that is unset.
-/// Runs on `threads` threads (>= 1); each node is computed independently, so the result is
+/// Runs on `threads` threads (0 = default_threads()); each node is computed independently, so the result is
 /// bit-identical for any thread count.
 /// \throw InputError for a zero resolution component, a non-finite or inverted box, more than
 ///        2^31 nodes, or a spec rejected by validate_field_spec().
 Grid3 sample_strength(const FieldSpec& spec, glm::dvec3 bbox_min, glm::dvec3 bbox_max,
-                      glm::uvec3 resolution, unsigned threads = 2);
+                      glm::uvec3 resolution, unsigned threads = 0);
 
 /// One cube of an `inclusions` material (scene units).
 struct InclusionCube {

@@ -96,8 +96,9 @@ void run_pass(const Pass& p, int threads) {
     run_pass_range(p, 0, nz);
     return;
   }
-  const unsigned mid = nz / 2;
-  parallel_pair([&] { run_pass_range(p, 0, mid); }, [&] { run_pass_range(p, mid, nz); });
+  const std::size_t slabs = std::min<std::size_t>({nz, 64, outputs / kMinOutputsPerThread});
+  parallel_chunks(nz, slabs, threads,
+                  [&](std::size_t, std::size_t z0, std::size_t z1) { run_pass_range(p, unsigned(z0), unsigned(z1)); });
 }
 
 glm::uvec3 pass_dims(glm::uvec3 dims, int axis, unsigned step) {
@@ -144,8 +145,8 @@ void check_grid(const Grid3& grid) {
 }
 
 void check_threads(int threads) {
-  if (threads != 1 && threads != 2) {
-    throw InputError("pyramid: threads " + std::to_string(threads) + " must be 1 or 2");
+  if (threads < 1) {
+    throw InputError("pyramid: threads " + std::to_string(threads) + " must be at least 1");
   }
 }
 

@@ -13,13 +13,14 @@
 #include <vector>
 
 #include "field/grid.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 
 struct PyramidOptions {
   int levels = 5;      ///< number of levels, the base included; in [1, 8]
   float sigma = 1.0f;  ///< standard deviation of the blur, in cells of the finer level; > 0
-  int threads = 2;     ///< CPU worker threads, 1 or 2; the result never depends on it
+  int threads = default_threads();     ///< CPU worker threads (>= 1); the result never depends on it
 };
 
 /// Normalised 1D Gaussian weights w[k+r] = exp(-k²/(2σ²)) / Σ, k in [-r, r], r = ceil(3σ)
@@ -39,13 +40,13 @@ std::vector<glm::uvec3> pyramid_level_dims(glm::uvec3 base_dims, int levels);
 /// The Gaussian pyramid of `base`: level 0 is `base` unchanged; level l+1 keeps every second
 /// node of level l blurred by a separable 3D Gaussian with clamp-to-edge borders:
 /// dst(i,j,k) = blurred(2i,2j,2k). Every level has base's origin and twice the previous cell.
-/// \pre options.levels in [1, 8], options.sigma > 0, options.threads in {1, 2}, base dims all
+/// \pre options.levels in [1, 8], options.sigma > 0, options.threads >= 1, base dims all
 ///      >= 1 and base.values.size() == base.size(). \throw InputError otherwise.
 std::vector<Grid3> build_pyramid_cpu(const Grid3& base, const PyramidOptions& options);
 
 /// The full-resolution separable blur (x, then y, then z; same arithmetic as the pyramid) of
 /// `grid`: same dims, origin and cell. Used by tests to check the pyramid against its definition.
 /// \pre as build_pyramid_cpu for `grid` and `sigma`. \throw InputError otherwise.
-Grid3 blur_cpu(const Grid3& grid, float sigma, int threads = 2);
+Grid3 blur_cpu(const Grid3& grid, float sigma, int threads = default_threads());
 
 }  // namespace fracref

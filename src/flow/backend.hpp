@@ -12,6 +12,7 @@
 #include "field/pyramid.hpp"
 #include "flow/sample_test.hpp"
 #include "flow/velocity.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 
@@ -34,6 +35,6 @@ class ComputeBackend {
 };
 
 /// The CPU backend: plain C++ on `threads` threads.
-std::unique_ptr<ComputeBackend> make_cpu_backend(int threads = 2);
+std::unique_ptr<ComputeBackend> make_cpu_backend(int threads = default_threads());
 
 }  // namespace fracref

@@ -9,7 +9,7 @@ class CpuBackend final : public ComputeBackend {
   std::string name() const override { return "cpu"; }
   std::vector<Grid3> build_pyramid(const Grid3& base, const PyramidOptions& options) override {
     PyramidOptions o = options;
-    o.threads = std::min(threads_, 2);
+    o.threads = threads_;
     return build_pyramid_cpu(base, o);
   }
   void set_field(const FieldGrid4& field) override { field_ = &field; }

@@ -28,13 +28,14 @@
 #include <glm/glm.hpp>
 
 #include "flow/velocity.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 
 struct ImplicitStepOptions {
   int max_iterations = 50;   ///< conjugate-gradient iterations at most
   double tolerance = 1e-3;   ///< stop when the preconditioned residual falls below this fraction of the first
-  int threads = 2;
+  int threads = default_threads();
 };
 
 struct ImplicitStepStats {

@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "field/field_sampler.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 
@@ -24,6 +25,6 @@ struct SampleView {
 /// \pre vertex_samples from sample_vertices_cpu on `positions`; out.size() == points.size().
 void sample_velocities_cpu(const FieldGrid4& field, std::span<const glm::vec4> positions,
                            std::span<const glm::vec4> vertex_samples, const SampleView& samples,
-                           std::span<glm::vec4> out, int threads = 2);
+                           std::span<glm::vec4> out, int threads = default_threads());
 
 }  // namespace fracref

@@ -20,6 +20,7 @@
 #include <glm/glm.hpp>
 
 #include "field/field_sampler.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 
@@ -34,13 +35,13 @@ struct SurfaceView {
 /// K1: samples[i] = sample_field(field, x_i) = (ψ, ∇ψ) at every vertex.
 /// \pre samples.size() == positions.size(); threads >= 1.
 void sample_vertices_cpu(const FieldGrid4& field, std::span<const glm::vec4> positions,
-                         std::span<glm::vec4> samples, int threads = 2);
+                         std::span<glm::vec4> samples, int threads = default_threads());
 
 /// K2: velocity[i] = (v_i, M_i) by the formula above; an isolated vertex or one whose faces are
 /// all degenerate gets (0, 0, 0, 0).
 /// \pre samples from sample_vertices_cpu; velocity.size() == positions.size().
 void vertex_velocities_cpu(const SurfaceView& surface, std::span<const glm::vec4> samples,
-                           std::span<glm::vec4> velocity, int threads = 2);
+                           std::span<glm::vec4> velocity, int threads = default_threads());
 
 /// One face's contribution to vertex i = corner `k` (0, 1, 2) of `face`: accumulates
 /// (A_j/3)∇ψ(x_i) + ½(n̂_j × (x_b − x_a))ψ̄_j into `grad` and A_j/3 into `mass`.

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include "util/parallel.hpp"
 
 namespace fracref {
 
@@ -128,10 +129,10 @@ ClosestPoint closest_point(const Bvh& bvh, const glm::dvec3& query, double bound
 
 /// Pairs (i, j) of an item i of `a` and an item j of `b` whose boxes overlap, sorted.
 /// Runs on `threads` threads; the result does not depend on their number.
-std::vector<std::pair<std::uint32_t, std::uint32_t>> overlapping_pairs(const Bvh& a, const Bvh& b, int threads = 2);
+std::vector<std::pair<std::uint32_t, std::uint32_t>> overlapping_pairs(const Bvh& a, const Bvh& b, int threads = default_threads());
 
 /// Pairs (i, j), i < j, of items of one tree whose boxes overlap, sorted.
-std::vector<std::pair<std::uint32_t, std::uint32_t>> self_overlapping_pairs(const Bvh& bvh, int threads = 2);
+std::vector<std::pair<std::uint32_t, std::uint32_t>> self_overlapping_pairs(const Bvh& bvh, int threads = default_threads());
 
 /// Whether `query` lies inside the closed mesh kept by `bvh` (points on the surface count as
 /// inside). Method: parity of the crossings of a segment from the query to a point far outside

@@ -22,6 +22,7 @@
 #include <glm/glm.hpp>
 
 #include "geom/bvh.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 
@@ -93,7 +94,7 @@ struct CcdPair {
 
 struct StepCcdOptions {
   CcdOptions ccd;
-  int threads = 2;  ///< worker threads (>= 1); the result does not depend on it
+  int threads = default_threads();  ///< worker threads (>= 1); the result does not depend on it
   /// find_step_collisions_with_static only: moving-mesh vertices flagged non-zero here (size =
   /// vertex count, or null for none) take part in no pair, nor do the moving triangles and
   /// edges that contain them. For vertices that rest on the static mesh by construction (the
@@ -148,7 +149,7 @@ struct StaticCcdMesh {
 /// \throw InputError as find_step_collisions_with_static for the static mesh.
 StaticCcdMesh prepare_static_ccd_mesh(const std::vector<glm::dvec3>& positions,
                                       const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                                      double min_distance = 0.0, int threads = 2);
+                                      double min_distance = 0.0, int threads = default_threads());
 
 /// find_step_collisions_with_static against a prepared static mesh (same result).
 /// \pre options.ccd.min_distance == prepared.min_distance.

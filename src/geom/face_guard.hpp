@@ -11,6 +11,7 @@
 #include "geom/bvh.hpp"
 #include "geom/intersect.hpp"
 #include "geom/quad_prism.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 
@@ -21,7 +22,7 @@ class FaceGuard {
  public:
   /// `threads` build the box tree (the result never depends on it).
   /// \pre every face index is below positions.size().
-  FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces, int threads = 2);
+  FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces, int threads = default_threads());
 
   /// A guard for edits inside known regions: only the faces whose box overlaps one of `regions`
   /// are indexed (a face outside every region cannot meet a new face inside one), which on a
@@ -30,7 +31,7 @@ class FaceGuard {
   /// \throw RunError from clear() when the new faces' box is not inside one of the regions (a
   /// caller's error: faces outside them were not indexed).
   FaceGuard(std::vector<glm::dvec3> positions, std::vector<TriangleIds> faces, const std::vector<Aabb>& regions,
-            int threads = 2);
+            int threads = default_threads());
 
   /// Adds a vertex that the new faces may use; returns its id (after the mesh's vertices).
   std::uint32_t add_vertex(const glm::dvec3& p);

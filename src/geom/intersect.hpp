@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include "util/parallel.hpp"
 
 namespace fracref {
 
@@ -38,7 +39,7 @@ bool mesh_faces_intersect(const std::vector<glm::dvec3>& positions, const Triang
 
 struct SelfIntersectionOptions {
   std::size_t max_report = std::numeric_limits<std::size_t>::max();  ///< stop after this many
-  int threads = 2;                                                    ///< worker threads (>= 1)
+  int threads = default_threads();                                                    ///< worker threads (>= 1)
   /// Only pairs whose first face is below this index are looked for (faces from here on are
   /// only tested against the ones before: e.g. a fracture surface's faces followed by exterior
   /// faces that cannot meet each other).

@@ -82,6 +82,7 @@
 
 #include "io/mesh_soup.hpp"
 #include "surface/fracture_surface.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 
@@ -218,7 +219,7 @@ struct PieceCheckOptions {
   std::uint64_t seed = 1;
   double volume_tolerance = 1e-3;    ///< allowed relative error of the sum of piece volumes
   std::size_t max_self_intersections = 16;  ///< per piece, stop counting after this many
-  int threads = 2;
+  int threads = default_threads();
 };
 
 /// The partition check of a piece set against its exterior.

@@ -10,6 +10,7 @@
 #include "geom/bvh.hpp"
 #include "io/mesh_io.hpp"
 #include "util/atomic_output.hpp"
+#include "util/parallel.hpp"
 #include "version.hpp"
 
 namespace fracref {
@@ -19,6 +20,7 @@ JobReport::JobReport(const Scene& scene, const std::string& backend, std::uint64
   j_["scene"] = scene.name;
   j_["backend"] = backend;
   j_["seed"] = seed;
+  j_["threads"] = default_threads();
   j_["seconds"] = nlohmann::ordered_json::object();
 }
 

@@ -11,6 +11,7 @@
 
 #include "field/grid.hpp"
 #include "scene/scene.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 
@@ -19,7 +20,7 @@ namespace fracref {
 /// triangle as closest_point_on_triangle measures it.
 /// \pre the mesh has at least one triangle.
 Grid3 distance_grid(const Grid3& grid, const std::vector<glm::dvec3>& positions,
-                    const std::vector<std::array<std::uint32_t, 3>>& triangles, int threads = 2);
+                    const std::vector<std::array<std::uint32_t, 3>>& triangles, int threads = default_threads());
 
 /// ψ at every node: w.strength·ζ + w.distance·d/diagonal + w.offset (> 0 by the scene's checks).
 /// \pre zeta and distance have the same dims; diagonal > 0.

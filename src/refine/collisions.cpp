@@ -13,7 +13,6 @@ namespace {
 // Threads for the per-vertex and per-face work below (projecting onto B, the inside test, faces
 // near B, the rim faces' crossing test): each element is decided alone, so the result is the same
 // for any count.
-constexpr int kThreads = 2;
 
 }  // namespace
 
@@ -25,7 +24,7 @@ void project_boundary_vertices(FractureSurface& s, const ExteriorSurface& b) {
 
 void apply_boundary_constraint(const FractureSurface& s, const ExteriorSurface& b, const std::vector<glm::vec4>& x0,
                                std::vector<glm::vec4>& x1) {
-  parallel_chunks(x1.size(), chunk_count(x1.size(), 4096), kThreads, [&](std::size_t, std::size_t begin, std::size_t end) {
+  parallel_chunks(x1.size(), chunk_count(x1.size(), 4096), default_threads(), [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
       if ((s.vertex_flags[i] & kVertexBoundary) && x1[i] != x0[i])
         x1[i] = glm::vec4(glm::vec3(b.closest_point(glm::dvec3(glm::vec3(x1[i])))), 1.0f);
@@ -70,7 +69,7 @@ std::size_t keep_inside(const FractureSurface& s, const ExteriorSurface& b, cons
   const std::size_t chunks = chunk_count(x1.size(), 256);  // a query costs microseconds: small S splits too
   std::vector<std::size_t> reset(chunks, 0);
   parallel_chunks(
-      x1.size(), chunks, kThreads, [&](std::size_t k, std::size_t begin, std::size_t end) {
+      x1.size(), chunks, default_threads(), [&](std::size_t k, std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i)
           if (!(s.vertex_flags[i] & kVertexBoundary) && (clearance || x0[i] != x1[i]) &&
               keep_vertex_inside(b, x0[i], x1[i], c[i]))
@@ -98,7 +97,7 @@ std::vector<std::array<std::uint32_t, 3>> faces_near_exterior(const std::vector<
   if (clearance.size() != x0.size()) return tris;
   const std::size_t chunks = chunk_count(tris.size(), 4096);
   std::vector<std::vector<std::array<std::uint32_t, 3>>> parts(chunks);
-  parallel_chunks(tris.size(), chunks, kThreads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+  parallel_chunks(tris.size(), chunks, default_threads(), [&](std::size_t c, std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f) {
       const auto& t = tris[f];
       double lowest = 1e300, longest = 0.0, travel = 0.0;
@@ -167,7 +166,7 @@ void drop_crossing_rim_faces(RimFaces& rim, const std::vector<glm::dvec3>& p0_ri
     return false;
   };
   std::vector<char> keep(rim.triangles.size(), 0);
-  parallel_chunks(keep.size(), chunk_count(keep.size(), 128), kThreads,
+  parallel_chunks(keep.size(), chunk_count(keep.size(), 128), default_threads(),
                   [&](std::size_t, std::size_t begin, std::size_t end) {
                     for (std::size_t k = begin; k < end; ++k) {
                       const auto& tri = rim.triangles[k];

@@ -12,7 +12,6 @@ namespace fracref {
 namespace {
 
 // Threads deciding the tuck splits (the splits made do not depend on it).
-constexpr int kThreads = 2;
 
 glm::dvec3 at(const FractureSurface& s, std::uint32_t v) { return glm::dvec3(glm::vec3(s.positions[v])); }
 
@@ -215,7 +214,7 @@ glm::dvec3 inside_target(const ExteriorSurface& b, const glm::dvec3& x, double m
 class SurelyInside {
  public:
   SurelyInside(const FractureSurface& s, const ExteriorSurface& b) : s_(s), clearance_(s.positions.size()) {
-    parallel_chunks(clearance_.size(), chunk_count(clearance_.size(), 64), kThreads,
+    parallel_chunks(clearance_.size(), chunk_count(clearance_.size(), 64), default_threads(),
                     [&](std::size_t, std::size_t begin, std::size_t end) {
                       for (std::size_t v = begin; v < end; ++v) {
                         const glm::dvec3 x = at(s_, std::uint32_t(v));
@@ -249,7 +248,7 @@ template <class T, class Find>
 std::vector<T> found_in_order(std::size_t n, const Find& find) {
   const std::size_t chunks = chunk_count(n, 16);
   std::vector<std::vector<T>> parts(chunks);
-  parallel_chunks(n, chunks, kThreads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+  parallel_chunks(n, chunks, default_threads(), [&](std::size_t c, std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k)
       if (std::optional<T> t = find(std::uint32_t(k))) parts[c].push_back(*t);
   });
@@ -378,7 +377,7 @@ std::size_t split_rim_chords_once(FractureSurface& s, RefinementTree& tree, cons
     region.expand(stored_position(c.q));
     region.expand(stored_position(c.mid));
   };
-  parallel_chunks(chords.size(), chunk_count(chords.size(), 16), kThreads,
+  parallel_chunks(chords.size(), chunk_count(chords.size(), 16), default_threads(),
                   [&](std::size_t, std::size_t begin, std::size_t end) {
                     for (std::size_t k = begin; k < end; ++k) place(chords[k], regions[k]);
                   });
@@ -391,7 +390,7 @@ std::size_t split_rim_chords_once(FractureSurface& s, RefinementTree& tree, cons
   std::vector<SplitBatch::EdgeEdit*> ahead;
   for (std::size_t k = 0; k < chords.size(); ++k)
     if (chords[k].q_inside) ahead.push_back(&inward[k].emplace(batch.edge_edit(chords[k].edge, 0.5f, chords[k].q)));
-  batch.find_hits(ahead, kThreads);
+  batch.find_hits(ahead, default_threads());
   for (std::size_t k = 0; k < chords.size(); ++k) {
     const Chord& c = chords[k];
     if (batch.busy_edge(c.edge)) continue;

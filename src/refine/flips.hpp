@@ -8,13 +8,14 @@
 
 #include "refine/exterior.hpp"
 #include "surface/fracture_surface.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 
 struct FlipOptions {
   double min_angle = 20.0;     ///< degrees: only edges of a face with a smaller angle are candidates
   double max_dihedral = 25.0;  ///< degrees: the two faces must be this close to coplanar
-  int threads = 2;             ///< for the exact guard's tests (the result does not depend on it)
+  int threads = default_threads();             ///< for the exact guard's tests (the result does not depend on it)
 };
 
 /// One pass over the regular edges in id order: flips an edge when one of its faces has an angle

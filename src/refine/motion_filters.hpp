@@ -7,12 +7,13 @@
 
 #include "refine/exterior.hpp"
 #include "surface/fracture_surface.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 
 struct MotionFilterOptions {
   bool rim_motion = false;  ///< let vertices on B slide on B (else they stay)
-  int threads = 2;
+  int threads = default_threads();
 };
 
 /// Per vertex of `s`: the identity inside a sheet; across the junction curve for a vertex on a

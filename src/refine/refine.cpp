@@ -33,7 +33,6 @@ constexpr int kConformPasses = 8;
 // Passes of split_rim_chords after the loop (a pass splits each face at most once).
 constexpr int kChordPasses = 4;
 // Threads judging the split samples (the verdicts do not depend on it).
-constexpr int kThreads = 2;
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
@@ -126,10 +125,10 @@ StepGuardOptions Refiner::step_guard_options() const {
 // edit; each evaluation is a kernel call, with a fixed cost on Vulkan).
 bool Refiner::flow_step(double ceiling, IterationStats& st) {
   const double e0 = ceiling;
-  const std::vector<glm::dmat3> filter = motion_filters(s_, b_, {.rim_motion = o_.rim_motion, .threads = kThreads});
+  const std::vector<glm::dmat3> filter = motion_filters(s_, b_, {.rim_motion = o_.rim_motion, .threads = default_threads()});
   std::vector<glm::dvec3> d(s_.positions.size());
   for (std::size_t i = 0; i < d.size() && i < last_move_.size(); ++i) d[i] = glm::dvec3(last_move_[i]);
-  st.solver_iterations = implicit_step(view(), samples_, velocity_, dt_, filter, d, {.threads = kThreads}).iterations;
+  st.solver_iterations = implicit_step(view(), samples_, velocity_, dt_, filter, d, {.threads = default_threads()}).iterations;
   const std::vector<glm::vec4> x0 = s_.positions;
   std::vector<glm::vec4> full = x0;
   for (std::size_t i = 0; i < x0.size(); ++i) full[i] = glm::vec4(glm::vec3(x0[i]) + glm::vec3(d[i]), 1.0f);
@@ -267,7 +266,7 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
   const float scale = float(o_.scale);
   SampleSet set = draw_samples(s_, o_.seed, iteration, float(o_.delta) * scale, float(o_.rim_delta) * scale);
   std::vector<char> on_boundary(set.points.size(), 0);
-  parallel_chunks(set.points.size(), chunk_count(set.points.size(), 4096), kThreads,
+  parallel_chunks(set.points.size(), chunk_count(set.points.size(), 4096), default_threads(),
                   [&](std::size_t, std::size_t begin, std::size_t end) {
                     for (std::size_t k = begin; k < end; ++k) {
                       const SplitRequest& r = set.requests[k];
@@ -281,7 +280,7 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
   // Verdicts side by side, then the splits in sample order: at most one per face, within budget.
   std::vector<Verdict> verdicts(set.points.size());
   const float tau = float(o_.tau) * scale;
-  parallel_chunks(set.points.size(), chunk_count(set.points.size(), 1024), kThreads,
+  parallel_chunks(set.points.size(), chunk_count(set.points.size(), 1024), default_threads(),
                   [&](std::size_t, std::size_t begin, std::size_t end) {
                     for (std::size_t k = begin; k < end; ++k) verdicts[k] = judge_sample(set, k, out[k], on_boundary[k], tau);
                   });

@@ -106,7 +106,6 @@ void append(SampleSet& out, const SampleSet& part) {
 
 // Threads drawing the face samples (each face's sample depends only on the hash: the set is the
 // same for any count).
-constexpr int kThreads = 2;
 
 }  // namespace
 
@@ -118,7 +117,7 @@ SampleSet draw_samples(const FractureSurface& s, std::uint64_t seed, std::uint32
     if (s.edge_special[e] == kEdgeNonManifold) add_edge_sample(s, e, sample_uniform(seed, it, nf + e, 0), min_distance, out);
   const std::size_t chunks = chunk_count(nf, 8192);
   std::vector<SampleSet> parts(chunks);
-  parallel_chunks(nf, chunks, kThreads, [&](std::size_t c, std::size_t begin, std::size_t end) {
+  parallel_chunks(nf, chunks, default_threads(), [&](std::size_t c, std::size_t begin, std::size_t end) {
     for (auto f = std::uint32_t(begin); f < end; ++f) add_sample_of_face(s, f, seed, it, min_distance, rim_min_distance, parts[c]);
   });
   for (const SampleSet& part : parts) append(out, part);

@@ -1,5 +1,7 @@
 #include "util/parallel.hpp"
 
+#include <algorithm>
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
@@ -84,4 +86,16 @@ bool run_on_pool(int workers, void (*work)(void*), void* context) {
 }
 
 }  // namespace parallel_detail
+namespace {
+std::atomic<int> g_default_threads{0};
+}
+
+int default_threads() {
+  const int n = g_default_threads.load(std::memory_order_relaxed);
+  if (n > 0) return n;
+  return std::max(1, int(std::thread::hardware_concurrency()));
+}
+
+void set_default_threads(int n) { g_default_threads.store(std::max(0, n), std::memory_order_relaxed); }
+
 }  // namespace fracref

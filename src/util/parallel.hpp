@@ -12,6 +12,14 @@
 
 namespace fracref {
 
+/// The worker threads a call uses when its options name none: set_default_threads's value, or
+/// else every hardware thread of the machine (at least 1). Results never depend on it.
+int default_threads();
+
+/// Sets what default_threads() returns from now on (the CLI's --threads); 0 = every hardware
+/// thread. \pre n >= 0.
+void set_default_threads(int n);
+
 /// Number of chunks used for n items: enough for load balance, few enough to be cheap.
 inline std::size_t chunk_count(std::size_t n, std::size_t min_chunk = 256) {
   return std::max<std::size_t>(1, std::min<std::size_t>(64, n / min_chunk));
