@@ -88,6 +88,17 @@ TEST(CliRefine, AnyThreadCountGivesTheSameBytes) {
   EXPECT_EQ(run("refine " + s.string() + " -o " + (t.path / "0").string() + " --threads 0").code, 2);
 }
 
+TEST(CliRefine, RimMotionKeyLetsTheRimSlide) {
+  TempDir t;
+  t.write("cube.obj", kCube);
+  t.write("cube.mesh", cube_mesh(3));
+  auto s = t.write("scene.json", scene(""));
+  for (const char* m : {"false", "true"})
+    ASSERT_EQ(run("refine " + s.string() + " -o " + (t.path / m).string() +
+                  " --backend cpu -q --stop-after refine --set refine.rim_motion=" + m).code, 0);
+  EXPECT_NE(slurp(t.path / "false" / "fracture_surface.ply"), slurp(t.path / "true" / "fracture_surface.ply"));
+}
+
 TEST(CliRefine, BadSceneNamesTheKeyAndLeavesTheOutputAlone) {
   TempDir t;
   t.write("cube.obj", kCube);

@@ -59,7 +59,8 @@ const char* kComplete = R"({
   "weights": {"strength": 2.0, "distance": 0, "offset": 0.25},
   "pyramid": {"levels": 6, "sigma": 1.5},
   "refine": {"tau": 0.003, "delta": 0.005, "step": 0.01, "tolerance": 1e-6, "max_iterations": 0,
-             "max_triangles": 1000, "seed": 42, "min_angle": 0, "collisions": false},
+             "max_triangles": 1000, "seed": 42, "min_angle": 0, "collisions": false,
+             "rim_motion": true},
   "output": {"ply": false, "obj": true, "glb": false, "frames": false, "preview": false, "preview_frames": 12}
 })";
 
@@ -100,6 +101,7 @@ TEST(ParseScene, CompleteSceneHasExactValues) {
   EXPECT_EQ(s.refine.seed, 42u);
   EXPECT_EQ(s.refine.min_angle, 0.0);
   EXPECT_FALSE(s.refine.collisions);
+  EXPECT_TRUE(s.refine.rim_motion);
   EXPECT_FALSE(s.output.ply);
   EXPECT_TRUE(s.output.obj);
   EXPECT_FALSE(s.output.glb);
@@ -136,6 +138,7 @@ TEST(ParseScene, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(s.refine.seed, 1u);
   EXPECT_EQ(s.refine.min_angle, 20.0);
   EXPECT_TRUE(s.refine.collisions);
+  EXPECT_FALSE(s.refine.rim_motion);
   EXPECT_TRUE(s.output.ply && s.output.obj && s.output.glb && s.output.frames && s.output.preview);
   EXPECT_EQ(s.output.preview_frames, 0);
   // Empty sub-objects give the same defaults.

@@ -147,6 +147,7 @@ RefineSpec read_refine(ObjectReader r) {
   f.seed = std::uint64_t(r.integer("seed", std::int64_t(f.seed), IntRange::at_least(0)));
   f.min_angle = r.number("min_angle", f.min_angle, Range::half_open(0.0, 60.0));
   f.collisions = r.boolean("collisions", f.collisions);
+  f.rim_motion = r.boolean("rim_motion", f.rim_motion);
   r.finish();
   return f;
 }

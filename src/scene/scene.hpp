@@ -70,6 +70,7 @@ struct RefineSpec {
   std::uint64_t seed = 1;       ///< seed of the random samples
   double min_angle = 20.0;      ///< degrees, in [0, 60): flip edges of triangles with a smaller angle
   bool collisions = true;       ///< continuous collision handling
+  bool rim_motion = false;      ///< the rim (S's boundary on B) slides on B with the flow
 };
 
 struct OutputSpec {
