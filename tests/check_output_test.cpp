@@ -78,8 +78,10 @@ std::string frame_text(const PieceSet& set, std::size_t t) {
 }
 
 // animation.glb written by hand, independently of fracref's writer: per piece a mesh with an
-// "exterior" and an "inside" primitive on the piece file's vertex order, frames 1.. as morph
-// targets (piece p moved by 0.1 t p along x, as frame_text), one weights channel per node.
+// "exterior" and an "inside" primitive on the piece file's vertex order followed by a copy of each
+// rim vertex (which the inside faces use), with NORMAL, TEXCOORD_0 and _MATERIAL_POSITION;
+// frames 1.. as morph targets (piece p moved by 0.1 t p along x, as frame_text), one weights
+// channel per node.
 struct HandGlb {
   nlohmann::ordered_json json;
   std::string bin;
@@ -101,19 +103,35 @@ struct HandGlb {
     for (std::size_t i = 0; i < xyz.size(); ++i) lo[i % 3] = std::min(lo[i % 3].get<float>(), xyz[i]), hi[i % 3] = std::max(hi[i % 3].get<float>(), xyz[i]);
     return add(bytes(xyz), 5126, xyz.size() / 3, "VEC3", {lo, hi});
   }
-  void add_piece(const PieceSet& set, std::size_t p, std::size_t frames) {
+  std::size_t add_floats(const std::vector<float>& v, const char* type) {
+    return add(bytes(v), 5126, v.size() / (type[3] == '2' ? 2 : 3), type, nullptr);
+  }
+  void add_piece(const PieceSet& set, std::size_t p, std::size_t frames, double extra) {
     const auto& piece = set.pieces[p];
     std::vector<std::uint32_t> used;
     for (const auto& tri : piece.triangles) used.insert(used.end(), tri.begin(), tri.end());
     std::sort(used.begin(), used.end());
     used.erase(std::unique(used.begin(), used.end()), used.end());
-    std::vector<float> xyz;
-    for (std::uint32_t v : used) xyz.insert(xyz.end(), {float(set.positions[v].x), float(set.positions[v].y), float(set.positions[v].z)});
-    const std::size_t position = add_vec3(xyz);
+    auto local = [&](std::uint32_t v) { return std::uint32_t(std::lower_bound(used.begin(), used.end(), v) - used.begin()); };
+    std::vector<int> uses(used.size(), 0);
+    for (std::size_t f = 0; f < piece.triangles.size(); ++f)
+      for (std::uint32_t v : piece.triangles[f]) uses[local(v)] |= piece.inside[f] ? 2 : 1;
+    std::vector<std::uint32_t> vertex, copy(used.size(), UINT32_MAX);  // per mesh vertex, its piece vertex; rim copies after
+    for (std::uint32_t i = 0; i < used.size(); ++i) vertex.push_back(i);
+    for (std::uint32_t i = 0; i < used.size(); ++i)
+      if (uses[i] == 3) copy[i] = std::uint32_t(vertex.size()), vertex.push_back(i);
+    std::vector<float> xyz, normals, uv(2 * vertex.size(), 0.0f);
+    for (std::uint32_t i : vertex) {
+      const glm::dvec3 x = set.positions[used[i]];
+      xyz.insert(xyz.end(), {float(x.x), float(x.y), float(x.z)});
+      normals.insert(normals.end(), {0.0f, 0.0f, 1.0f});
+    }
+    const std::size_t position = add_vec3(xyz), normal = add_floats(normals, "VEC3"), material = add_floats(xyz, "VEC3"),
+                      texcoord = add_floats(uv, "VEC2");
     nlohmann::ordered_json targets = nlohmann::ordered_json::array();
     for (std::size_t t = 1; t < frames; ++t) {
       std::vector<float> d(xyz.size(), 0.0f);
-      for (std::size_t i = 0; i < d.size(); i += 3) d[i] = float(0.1 * double(t) * double(p));
+      for (std::size_t i = 0; i < d.size(); i += 3) d[i] = float((0.1 + extra) * double(t) * double(p));
       targets.push_back({{"POSITION", add_vec3(d)}});
     }
     nlohmann::ordered_json prims = nlohmann::ordered_json::array();
@@ -121,19 +139,21 @@ struct HandGlb {
       std::vector<std::uint32_t> idx;
       for (std::size_t f = 0; f < piece.triangles.size(); ++f)
         if (piece.inside[f] == group)
-          for (std::uint32_t v : piece.triangles[f]) idx.push_back(std::uint32_t(std::lower_bound(used.begin(), used.end(), v) - used.begin()));
+          for (std::uint32_t v : piece.triangles[f]) idx.push_back(group && copy[local(v)] != UINT32_MAX ? copy[local(v)] : local(v));
       const std::size_t indices = add(bytes(idx), 5125, idx.size(), "SCALAR", nullptr);
-      prims.push_back({{"attributes", {{"POSITION", position}}}, {"indices", indices}, {"material", group}, {"targets", targets}});
+      const nlohmann::ordered_json attributes = {
+          {"POSITION", position}, {"NORMAL", normal}, {"TEXCOORD_0", texcoord}, {"_MATERIAL_POSITION", material}};
+      prims.push_back({{"attributes", attributes}, {"indices", indices}, {"material", group}, {"targets", targets}});
     }
     char name[32];
     std::snprintf(name, sizeof name, "piece_%03zu", p);
     json["meshes"].push_back({{"name", name}, {"primitives", prims}});
     json["nodes"].push_back({{"name", name}, {"mesh", p}});
   }
-  HandGlb(const PieceSet& set, std::size_t frames) {
+  HandGlb(const PieceSet& set, std::size_t frames, double extra = 0.0) {
     json["asset"] = {{"version", "2.0"}, {"generator", "hand"}};
     json["materials"] = {{{"name", "exterior"}}, {{"name", "inside"}}};
-    for (std::size_t p = 0; p < set.pieces.size(); ++p) add_piece(set, p, frames);
+    for (std::size_t p = 0; p < set.pieces.size(); ++p) add_piece(set, p, frames, extra);
     std::vector<float> times, weights;
     for (std::size_t t = 0; t < frames; ++t) {
       times.push_back(float(double(t) / 24.0));
@@ -204,14 +224,17 @@ TEST_F(CheckOutput, ValidFolderPasses) {
   EXPECT_EQ(r.exit_code(), 0);
   EXPECT_EQ(r.pieces, 2u);
   EXPECT_EQ(r.frames, 3u);
-  ASSERT_EQ(r.checks.size(), 7u);
+  ASSERT_EQ(r.checks.size(), 8u);
   for (const CheckResult& c : r.checks) EXPECT_EQ(c.status, CheckStatus::kPassed) << c.name << ": " << c.detail;
   const auto j = check_report_json(r);
   EXPECT_EQ(j["ok"], true);
   EXPECT_EQ(j["checks"][5]["name"], "frames");
   EXPECT_EQ(j["checks"][5]["status"], "passed");
   EXPECT_EQ(j["checks"][6]["name"], "glb");
-  EXPECT_EQ(j["checks"][6]["detail"], "2 nodes, 2 morph targets each, " + std::to_string(fs::file_size(dir_ / "animation.glb")) + " bytes");
+  EXPECT_EQ(j["checks"][6]["detail"], "2 nodes (0 moved by node transforms, 2 by 2 morph targets each), " +
+                                          std::to_string(fs::file_size(dir_ / "animation.glb")) + " bytes");
+  EXPECT_EQ(j["checks"][7]["name"], "glb_frames");
+  EXPECT_EQ(j["checks"][7]["status"], "passed");
 }
 
 TEST_F(CheckOutput, ObjOnlyPiecesAreReadWithTheirMaterials) {
@@ -272,6 +295,50 @@ TEST_F(CheckOutput, DroppedAndExtraFramesAreNamed) {
   EXPECT_NE(all.find("frames: 1 frame files beyond report.json's 3: frame_0007.obj"), std::string::npos) << all;
 }
 
+// frames/ as topology.obj and positions.bin (scenes/OUTPUTS.md), written here by hand.
+std::string positions_bin(const PieceSet& set, std::size_t frames, std::size_t skip_last_floats = 0) {
+  std::vector<std::vector<glm::dvec3>> per_frame(frames);  // as frame_text: piece p moved by 0.1 t p along x
+  std::vector<std::uint32_t> offsets = {0};
+  for (std::size_t p = 0; p < set.pieces.size(); ++p) {
+    std::vector<std::uint32_t> used;
+    for (const auto& tri : set.pieces[p].triangles) used.insert(used.end(), tri.begin(), tri.end());
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    offsets.push_back(offsets.back() + std::uint32_t(used.size()));
+    for (std::size_t t = 0; t < frames; ++t)
+      for (std::uint32_t v : used) per_frame[t].push_back(set.positions[v] + glm::dvec3(0.1 * double(t) * double(p), 0, 0));
+  }
+  std::string out = "FRFRAMES";
+  auto u32 = [&](std::uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
+  u32(1), u32(std::uint32_t(frames)), u32(std::uint32_t(set.pieces.size())), u32(offsets.back());
+  const double fps = 24.0;
+  out.append(reinterpret_cast<const char*>(&fps), 8);
+  for (std::uint32_t o : offsets) u32(o);
+  for (const auto& x : per_frame)
+    for (const glm::dvec3& p : x)
+      for (int k = 0; k < 3; ++k) {
+        const float f = float(p[k]);
+        out.append(reinterpret_cast<const char*>(&f), 4);
+      }
+  return out.substr(0, out.size() - 4 * skip_last_floats);
+}
+
+TEST_F(CheckOutput, BinaryFramesAreReadAndMatchTheGlb) {
+  for (std::size_t t = 0; t < 3; ++t) fs::remove(dir_ / "frames" / ("frame_000" + std::to_string(t) + ".obj"));
+  write("frames/topology.obj", frame_text(set_, 0));
+  write("frames/positions.bin", positions_bin(set_, 3));
+  CheckReport r = check_output(dir_);
+  for (const std::string& f : r.failures) ADD_FAILURE() << f;
+  ASSERT_EQ(r.checks.size(), 8u);
+  EXPECT_EQ(r.checks[5].detail, "topology.obj and 3 frames of positions.bin read");
+  EXPECT_EQ(r.checks[7].status, CheckStatus::kPassed) << r.checks[7].detail;
+  write("frames/positions.bin", positions_bin(set_, 3, 3));
+  EXPECT_NE(failures_of("frames").find("frames/positions.bin: "), std::string::npos);
+  write("frames/positions.bin", positions_bin(set_, 3));
+  write("animation.glb", HandGlb(set_, 3, 0.5).pack());  // moves piece 1 half again as far
+  EXPECT_NE(failures_of("glb_frames").find("animation.glb: pieces/piece_001.ply vertex "), std::string::npos);
+}
+
 TEST_F(CheckOutput, FrameWithoutAPieceOrWithWrongVertexCountIsNamed) {
   std::string text = frame_text(set_, 2);
   write("frames/frame_0002.obj", text.substr(0, text.find("o piece_001")));
@@ -304,7 +371,7 @@ TEST_F(CheckOutput, WithoutFramesOrPiecesTheChecksAreSkipped) {
   fs::remove(dir_ / "animation.glb");
   CheckReport r = check_output(dir_);
   EXPECT_TRUE(r.ok());
-  ASSERT_EQ(r.checks.size(), 7u);
+  ASSERT_EQ(r.checks.size(), 8u);
   EXPECT_EQ(r.checks[5].name, "frames");
   EXPECT_EQ(r.checks[5].status, CheckStatus::kSkipped);
   EXPECT_EQ(r.checks[6].name, "glb");
@@ -313,8 +380,8 @@ TEST_F(CheckOutput, WithoutFramesOrPiecesTheChecksAreSkipped) {
   write("report.json", R"({"pieces": 2, "frames": 3})");
   r = check_output(dir_);
   EXPECT_TRUE(r.ok());
-  ASSERT_EQ(r.checks.size(), 7u);
-  for (std::size_t i = 1; i < 7; ++i) EXPECT_EQ(r.checks[i].status, CheckStatus::kSkipped);
+  ASSERT_EQ(r.checks.size(), 8u);
+  for (std::size_t i = 1; i < 8; ++i) EXPECT_EQ(r.checks[i].status, CheckStatus::kSkipped);
 }
 
 TEST_F(CheckOutput, TruncatedOrCorruptGlbIsNamed) {
@@ -354,7 +421,7 @@ TEST_F(CheckOutput, GlbJsonThatDoesNotFitTheBinChunkOrThePiecesIsNamed) {
   g = HandGlb(set_, 3);
   g.json["meshes"][1]["primitives"][1]["targets"].erase(1);
   write("animation.glb", g.pack());
-  EXPECT_EQ(failures_of("glb"), "animation.glb: meshes[1].primitives[1]: 1 morph targets, expected 2 (one per kept frame after the first)\n");
+  EXPECT_EQ(failures_of("glb"), "animation.glb: meshes[1].primitives[1]: 1 morph targets, expected 2\n");
   g = HandGlb(set_, 3);
   g.json["meshes"][0]["primitives"][0]["material"] = 1;  // outside faces under the inside material
   write("animation.glb", g.pack());

@@ -61,7 +61,7 @@ const char* kComplete = R"({
   "refine": {"tau": 0.003, "delta": 0.005, "step": 0.01, "tolerance": 1e-6, "max_iterations": 0,
              "max_triangles": 1000, "seed": 42, "min_angle": 0, "collisions": false,
              "rim_motion": true},
-  "output": {"ply": false, "obj": true, "glb": false, "frames": false, "preview": false, "preview_frames": 12}
+  "output": {"ply": false, "obj": true, "glb": false, "frames": false, "frames_format": "obj", "preview": false, "preview_frames": 12}
 })";
 
 TEST(ParseScene, CompleteSceneHasExactValues) {
@@ -106,6 +106,7 @@ TEST(ParseScene, CompleteSceneHasExactValues) {
   EXPECT_TRUE(s.output.obj);
   EXPECT_FALSE(s.output.glb);
   EXPECT_FALSE(s.output.frames);
+  EXPECT_EQ(s.output.frames_format, "obj");
   EXPECT_FALSE(s.output.preview);
   EXPECT_EQ(s.output.preview_frames, 12);
 }
@@ -139,7 +140,9 @@ TEST(ParseScene, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(s.refine.min_angle, 20.0);
   EXPECT_TRUE(s.refine.collisions);
   EXPECT_FALSE(s.refine.rim_motion);
-  EXPECT_TRUE(s.output.ply && s.output.obj && s.output.glb && s.output.frames && s.output.preview);
+  EXPECT_TRUE(s.output.ply && s.output.obj && s.output.glb && s.output.preview);
+  EXPECT_FALSE(s.output.frames);  // frames/ only on request
+  EXPECT_EQ(s.output.frames_format, "bin");
   EXPECT_EQ(s.output.preview_frames, 0);
   // Empty sub-objects give the same defaults.
   const Scene e = parse_patched(R"({"weights": {}, "pyramid": {}, "refine": {}, "output": {}})");
@@ -290,6 +293,9 @@ TEST(SceneErrors, OutOfRange) {
             "/jobs/bunny/scene.json: key 'refine.max_triangles': must be an integer in [1, 50000000], got 0");
   EXPECT_EQ(patched_error(R"({"output": {"preview_frames": 1001}})"),
             "/jobs/bunny/scene.json: key 'output.preview_frames': must be an integer in [0, 1000], got 1001");
+  EXPECT_EQ(patched_error(R"({"output": {"frames_format": "ply"}})").rfind(
+                "/jobs/bunny/scene.json: key 'output.frames_format': must be one of ", 0),
+            0u);
   EXPECT_EQ(patched_error(R"({"animation": {"kind": "frames", "frames": "f{}.txt", "count": 0}})"),
             "/jobs/bunny/scene.json: key 'animation.count': must be an integer in [1, 1000000], got 0");
   EXPECT_EQ(patched_error(R"({"field": {"seed": -1}})"),

@@ -147,16 +147,28 @@ AnimationResult animate_pieces(const CoarseModel& model, const CoarseAnimation& 
                                const RefinementTree& tree, const PieceSet& pieces,
                                const AnimateOptions& options = {});
 
-/// Writes `out`/frames/frame_NNNN.obj (NNNN = frame index from 0, at least 4 digits) and
-/// `out`/frames/frames.mtl, each through write_file_atomic (format: scenes/OUTPUTS.md). Each
-/// frame holds every piece as `o piece_NNN` with its own vertices, in the order of
-/// layout.vertices, then its faces in the order of pieces/piece_NNN.obj (`usemtl outside`
-/// faces, then `usemtl inside`).
-/// \pre `result` was computed for `pieces`. \throw RunError when a file cannot be written.
-void write_frames(const PieceSet& pieces, const AnimationResult& result, const std::filesystem::path& out);
+/// How frames/ holds the animation (scenes/OUTPUTS.md).
+enum class FramesFormat : std::uint8_t {
+  kBinary,  ///< frames/topology.obj (frame 0) and frames/positions.bin (every frame's positions)
+  kObj,     ///< frames/frame_NNNN.obj, one full OBJ per frame
+};
 
-/// The same, evaluating one frame at a time (memory: one frame).
+/// The first 8 bytes of frames/positions.bin.
+inline constexpr char kPositionsMagic[] = "FRFRAMES";
+
+/// Writes `out`/frames/ in `format`, and `out`/frames/frames.mtl, each file complete or absent
+/// (format: scenes/OUTPUTS.md). kObj: frame_NNNN.obj (NNNN = frame index from 0, at least 4
+/// digits), each holding every piece as `o piece_NNN` with its own vertices, in the order of
+/// layout.vertices, then its faces in the order of pieces/piece_NNN.obj (`usemtl outside` faces,
+/// then `usemtl inside`). kBinary: topology.obj (that text for frame 0) and positions.bin
+/// (a header, then per frame every slot's position as 3 float32).
+/// \pre `result` was computed for `pieces`. 	hrow RunError when a file cannot be written, a
+///      frame has not one position per slot, or the counts do not fit 32 bits.
+void write_frames(const PieceSet& pieces, const AnimationResult& result, const std::filesystem::path& out,
+                  FramesFormat format = FramesFormat::kObj);
+
+/// The same, evaluating one frame at a time (memory: one frame, or two for kObj).
 void write_frames(const PieceSet& pieces, const AnimationTransfer& transfer, const CoarseAnimation& animation,
-                  const std::filesystem::path& out);
+                  const std::filesystem::path& out, FramesFormat format = FramesFormat::kObj);
 
 }  // namespace fracref

@@ -7,22 +7,27 @@
 //  - header: magic 0x46546C67 ("glTF"), version 2, total length; then a JSON chunk padded with
 //    spaces and a BIN chunk padded with zeros, each a multiple of 4 bytes long.
 //  - one node and one mesh per piece, both named piece_NNN (as in pieces/ and frames/), in
-//    piece order, all in scene 0. A mesh has up to two primitives sharing one POSITION accessor:
+//    piece order, all in scene 0. A mesh has up to two primitives sharing its vertex arrays:
 //    "exterior" (the faces from B, material `exterior`, grey) and "inside" (the fracture faces,
-//    material `inside`, a warm colour); a primitive with no face is left out. Vertex i of a mesh
-//    is vertex i of pieces/piece_NNN.ply and of the piece's group in every frame OBJ; faces are
-//    in the order of pieces/piece_NNN.obj. Indices are uint32, positions float32, no normals
-//    (readers compute flat ones, as the glTF specification requires).
-//  - the animation is morph targets: the base POSITION is frame 0, and every further kept frame
-//    is one morph target holding POSITION deltas (frame minus base, float32). A target in
-//    which a piece does not move is an accessor without buffer view (all zeros). Every
-//    POSITION accessor, morph targets included, carries min and max. mesh.extras.targetNames
-//    names the targets frame_NNNN (the frame index from 0).
-//  - one animation "fracture" with one `weights` channel per node; all samplers share the
-//    input (the kept frames' times, frame / fps seconds) and the output (LINEAR: at the kept
-//    frame j the weights are the unit vector of target j, all zero at frame 0), so a reader
-//    interpolates positions linearly between kept frames. animations[0].extras holds
-//    `frame_count` (frames of the animation) and `frame_step` (see GltfOptions).
+//    material `inside`, a warm colour); a primitive with no face is left out. Vertex i < n of a
+//    mesh is vertex i of pieces/piece_NNN.ply (n vertices); vertex n + k is a second copy of the
+//    k-th rim vertex (used by both materials, ascending), which the inside faces use, so that
+//    normals are split at the crack rim (piece_surface.hpp). Faces are in the order of
+//    pieces/piece_NNN.obj. Indices uint32; attributes float32: POSITION, NORMAL (smooth per
+//    material), _MATERIAL_POSITION (the material-space position), and on the inside primitive
+//    TEXCOORD_0 (box_texcoord of the material position, in the pieces' material bounding box).
+//  - a piece is rigid when every frame is a rotation and translation of its rest pose within
+//    GltfOptions::rigid_tolerance (rigid_fit.hpp; checked with the float values written). Its
+//    mesh is the rest pose less its pivot (the rest vertices' centroid), and its node carries
+//    frame 0's translation and rotation. Every other piece deforms: its mesh is frame 0, and
+//    every further kept frame is one morph target of POSITION deltas (sparse when most
+//    vertices do not move; without data when none does), named frame_NNNN in
+//    mesh.extras.targetNames. Every POSITION accessor, targets included, carries min and max.
+//  - one animation "fracture", keyed at the kept frames' times (frame / fps seconds), LINEAR:
+//    per rigid piece a `translation` and a `rotation` channel, per deforming piece a `weights`
+//    channel (at the kept frame j the unit vector of target j, all zero at frame 0); all share
+//    the input. animations[0].extras holds `frame_count` (frames of the animation) and
+//    `frame_step` (see GltfOptions).
 //  With a single frame there are no morph targets and no animation.
 #include <cstddef>
 #include <filesystem>
@@ -44,13 +49,17 @@ struct GltfOptions {
   /// frame are always kept, even over the budget. Peak memory while encoding is about twice
   /// the file size (the data, then the file).
   std::size_t max_bytes = std::size_t(256) << 20;
+  /// A piece is rigid when no vertex is further than this fraction of the pieces' material
+  /// bounding-box diagonal from where its fitted node transform puts it, in any frame.
+  double rigid_tolerance = 1e-6;
 };
 
 /// What encode_animation_glb wrote.
 struct GltfSummary {
   std::size_t frame_count = 0;  ///< frames of the animation
   std::size_t frame_step = 1;   ///< k: frames 0, k, 2k, ... and the last one are kept
-  std::size_t frames_kept = 0;  ///< morph targets per mesh + 1
+  std::size_t frames_kept = 0;  ///< animation keys (morph targets per deforming mesh + 1)
+  std::size_t rigid_pieces = 0; ///< pieces moved by node transforms
   std::size_t bytes = 0;        ///< size of the GLB file
   bool over_budget = false;     ///< even the first and last frames alone exceed max_bytes
 };

@@ -1,7 +1,10 @@
-// animate_pieces and the per-frame OBJ files.
+// animate_pieces and frames/: one OBJ per frame, or topology.obj and positions.bin.
 #include <algorithm>
+#include <bit>
 #include <charconv>
+#include <cstdint>
 #include <cstdio>
+#include <fstream>
 #include <functional>
 
 #include "animate/animate.hpp"
@@ -86,27 +89,90 @@ const char* material_text() {
          "newmtl inside\nKa 0 0 0\nKd 0.85 0.55 0.35\nKs 0.05 0.05 0.05\nNs 10\nillum 2\n";
 }
 
-void write_all(const PieceSet& pieces, const PieceLayout& layout, std::size_t frame_count, double fps,
-               const std::filesystem::path& out, const std::function<std::vector<glm::dvec3>(std::size_t)>& frame) {
-  const animate_detail::LocalFaces faces = animate_detail::local_faces(pieces, layout, "write_frames");
+using FrameFn = std::function<std::vector<glm::dvec3>(std::size_t)>;
+
+std::filesystem::path frames_folder(const std::filesystem::path& out) {
   const std::filesystem::path dir = out / "frames";
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw RunError(dir.string() + ": cannot create the folder: " + ec.message());
-  const FrameTemplate tmpl = frame_template(faces, layout);
-  auto text_of = [&](std::size_t t) {
-    const std::vector<glm::dvec3> x = frame(t);
-    if (x.size() != layout.slot_count())
-      throw RunError("write_frames: frame " + std::to_string(t) + " has " + std::to_string(x.size()) + " positions, expected " +
-                     std::to_string(layout.slot_count()));
-    return frame_text(tmpl, layout, x, t, frame_count, fps);
-  };
+  return dir;
+}
+
+std::vector<glm::dvec3> checked_frame(const FrameFn& frame, const PieceLayout& layout, std::size_t t) {
+  std::vector<glm::dvec3> x = frame(t);
+  if (x.size() != layout.slot_count())
+    throw RunError("write_frames: frame " + std::to_string(t) + " has " + std::to_string(x.size()) + " positions, expected " +
+                   std::to_string(layout.slot_count()));
+  return x;
+}
+
+void write_obj_frames(const FrameTemplate& tmpl, const PieceLayout& layout, std::size_t frame_count, double fps,
+                      const std::filesystem::path& dir, const FrameFn& frame) {
   // Two frames at a time, side by side: computing and formatting a frame costs more than writing it.
   for (std::size_t t = 0; t < frame_count; t += 2) {
     const std::size_t n = std::min<std::size_t>(2, frame_count - t);
     std::string text[2];
-    parallel_chunks(n, n, 2, [&](std::size_t c, std::size_t, std::size_t) { text[c] = text_of(t + c); });
+    parallel_chunks(n, n, 2, [&](std::size_t c, std::size_t, std::size_t) {
+      text[c] = frame_text(tmpl, layout, checked_frame(frame, layout, t + c), t + c, frame_count, fps);
+    });
     for (std::size_t c = 0; c < n; ++c) write_file_atomic(dir / numbered("frame_%04zu.obj", t + c), text[c]);
+  }
+}
+
+void put_u32(std::string& out, std::uint32_t v) {
+  for (int k = 0; k < 4; ++k) out += char((v >> (8 * k)) & 0xFF);
+}
+
+// The header of positions.bin (scenes/OUTPUTS.md): magic, version, counts, fps, piece offsets.
+std::string positions_header(const PieceLayout& layout, std::size_t frame_count, double fps) {
+  std::string out = kPositionsMagic;
+  put_u32(out, 1);
+  put_u32(out, std::uint32_t(frame_count));
+  put_u32(out, std::uint32_t(layout.vertices.size()));
+  put_u32(out, std::uint32_t(layout.slot_count()));
+  const std::uint64_t bits = std::bit_cast<std::uint64_t>(fps);
+  put_u32(out, std::uint32_t(bits)), put_u32(out, std::uint32_t(bits >> 32));
+  for (std::uint32_t o : layout.offsets) put_u32(out, o);
+  return out;
+}
+
+std::string positions_block(const std::vector<glm::dvec3>& x) {
+  std::string out;
+  out.reserve(12 * x.size());
+  for (const glm::dvec3& p : x)
+    for (int k = 0; k < 3; ++k) put_u32(out, std::bit_cast<std::uint32_t>(float(p[k])));
+  return out;
+}
+
+// positions.bin is streamed (it grows with frames x vertices), to a temporary name renamed at the end.
+void write_positions(const PieceLayout& layout, std::size_t frame_count, double fps, const std::filesystem::path& file,
+                     const FrameFn& frame) {
+  const std::filesystem::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
+    os << positions_header(layout, frame_count, fps);
+    for (std::size_t t = 0; t < frame_count && os; ++t) os << positions_block(checked_frame(frame, layout, t));
+    if (!os.flush()) throw RunError(file.string() + ": cannot be written");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, file, ec);
+  if (ec) throw RunError(file.string() + ": cannot be written: " + ec.message());
+}
+
+void write_all(const PieceSet& pieces, const PieceLayout& layout, std::size_t frame_count, double fps,
+               const std::filesystem::path& out, FramesFormat format, const FrameFn& frame) {
+  const animate_detail::LocalFaces faces = animate_detail::local_faces(pieces, layout, "write_frames");
+  if (frame_count > UINT32_MAX || layout.slot_count() > UINT32_MAX / 12)
+    throw RunError("write_frames: " + std::to_string(frame_count) + " frames of " + std::to_string(layout.slot_count()) +
+                   " vertices are too many for the frames files");
+  const std::filesystem::path dir = frames_folder(out);
+  const FrameTemplate tmpl = frame_template(faces, layout);
+  if (format == FramesFormat::kObj) {
+    write_obj_frames(tmpl, layout, frame_count, fps, dir, frame);
+  } else {
+    write_file_atomic(dir / "topology.obj", frame_text(tmpl, layout, checked_frame(frame, layout, 0), 0, frame_count, fps));
+    write_positions(layout, frame_count, fps, dir / "positions.bin", frame);
   }
   write_file_atomic(dir / "frames.mtl", material_text());
 }
@@ -155,13 +221,15 @@ AnimationResult animate_pieces(const CoarseModel& model, const CoarseAnimation& 
   return result;
 }
 
-void write_frames(const PieceSet& pieces, const AnimationResult& result, const std::filesystem::path& out) {
-  write_all(pieces, result.layout, result.frames.size(), result.fps, out, [&](std::size_t t) { return result.frames[t]; });
+void write_frames(const PieceSet& pieces, const AnimationResult& result, const std::filesystem::path& out,
+                  FramesFormat format) {
+  write_all(pieces, result.layout, result.frames.size(), result.fps, out, format,
+            [&](std::size_t t) { return result.frames[t]; });
 }
 
 void write_frames(const PieceSet& pieces, const AnimationTransfer& transfer, const CoarseAnimation& animation,
-                  const std::filesystem::path& out) {
-  write_all(pieces, transfer.layout, transfer.frame_count, animation.fps, out,
+                  const std::filesystem::path& out, FramesFormat format) {
+  write_all(pieces, transfer.layout, transfer.frame_count, animation.fps, out, format,
             [&](std::size_t t) { return transfer_frame(transfer, animation, t); });
 }
 

@@ -1,11 +1,15 @@
-// The frames check: frames/frame_NNNN.obj, one per frame of report.json, each holding every
-// piece with the piece file's vertex count and triangles.
+// The frames check: frames/positions.bin with topology.obj, or frames/frame_NNNN.obj one per
+// frame of report.json, each holding every piece with the piece file's vertex count and triangles.
 #include <algorithm>
+#include <bit>
+#include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <set>
 
 #include "check/check_internal.hpp"
 #include "io/mesh_io.hpp"
+#include "util/error.hpp"
 
 namespace fracref::check_detail {
 namespace {
@@ -102,7 +106,75 @@ std::vector<std::array<std::uint32_t, 3>> obj_order(const PieceFile& f, int only
   return out;
 }
 
-void check_frames(const fs::path& out, const std::vector<PieceFile>& pieces, std::size_t frames, CheckReport& report) {
+namespace {
+
+constexpr std::size_t kHeader = 32;  // magic, version, frames, pieces, vertices, fps
+
+std::uint32_t u32_of(const std::string& b, std::size_t at) {
+  std::uint32_t v = 0;
+  for (int k = 3; k >= 0; --k) v = (v << 8) | std::uint8_t(b[at + std::size_t(k)]);
+  return v;
+}
+
+// positions.bin's header against report.json and the piece files; the first thing wrong, or "".
+std::string check_positions_header(const std::string& h, std::uint64_t file_size, const std::vector<PieceFile>& pieces, std::size_t frames) {
+  if (h.size() < kHeader || h.compare(0, 8, "FRFRAMES") != 0) return "not a fracref positions file (magic FRFRAMES)";
+  if (u32_of(h, 8) != 1) return "version " + std::to_string(u32_of(h, 8)) + ", expected 1";
+  if (u32_of(h, 12) != frames) return std::to_string(u32_of(h, 12)) + " frames, report.json has " + std::to_string(frames);
+  if (u32_of(h, 16) != pieces.size()) return std::to_string(u32_of(h, 16)) + " pieces, report.json has " + std::to_string(pieces.size());
+  const double fps = std::bit_cast<double>(std::uint64_t(u32_of(h, 24)) | std::uint64_t(u32_of(h, 28)) << 32);
+  if (!(fps > 0.0) || !std::isfinite(fps)) return "fps is not a positive number";
+  std::uint64_t offset = 0;
+  for (std::size_t p = 0; p <= pieces.size(); ++p) {
+    if (h.size() < kHeader + 4 * (p + 1) || u32_of(h, kHeader + 4 * p) != offset)
+      return "piece offset " + std::to_string(p) + " is not " + std::to_string(offset) + " (the vertices of the pieces before it)";
+    if (p < pieces.size()) offset += pieces[p].mesh.positions.size();
+  }
+  if (u32_of(h, 20) != offset) return std::to_string(u32_of(h, 20)) + " vertices, the pieces have " + std::to_string(offset);
+  const std::uint64_t want = kHeader + 4 * (pieces.size() + 1) + std::uint64_t(frames) * offset * 12;
+  if (file_size != want) return std::to_string(file_size) + " bytes, expected " + std::to_string(want);
+  return "";
+}
+
+std::vector<glm::dvec3> read_positions(const fs::path& file, std::size_t pieces, std::size_t vertices, std::size_t t) {
+  std::ifstream in(file, std::ios::binary);
+  std::string bytes(12 * vertices, '\0');
+  in.seekg(std::streamoff(kHeader + 4 * (pieces + 1) + 12 * vertices * t));
+  in.read(bytes.data(), std::streamsize(bytes.size()));
+  if (!in) throw InputError(file.string() + ": frame " + std::to_string(t) + " cannot be read");
+  std::vector<glm::dvec3> out(vertices);
+  for (std::size_t i = 0; i < 3 * vertices; ++i) out[i / 3][int(i % 3)] = double(std::bit_cast<float>(u32_of(bytes, 4 * i)));
+  return out;
+}
+
+FrameReader check_positions(const fs::path& out, const std::vector<PieceFile>& pieces, std::size_t frames, CheckReport& report) {
+  std::vector<std::string> failures;
+  std::vector<std::vector<Tri>> expected;
+  for (const PieceFile& p : pieces) expected.push_back(p.present ? obj_order(p) : std::vector<Tri>{});
+  if (!fs::exists(out / "frames" / "topology.obj")) failures.push_back("frames/topology.obj: missing (positions.bin needs it)");
+  else check_frame(out / "frames" / "topology.obj", "frames/topology.obj", pieces, expected, failures);
+  const fs::path file = out / "frames" / "positions.bin";
+  std::ifstream in(file, std::ios::binary);
+  std::string header(kHeader + 4 * (pieces.size() + 1), '\0');
+  in.read(header.data(), std::streamsize(header.size()));
+  header.resize(std::size_t(in.gcount()));
+  const std::string why = check_positions_header(header, fs::file_size(file), pieces, frames);
+  if (!why.empty()) failures.push_back("frames/positions.bin: " + why);
+  std::size_t vertices = 0;
+  for (const PieceFile& p : pieces) vertices += p.mesh.positions.size();
+  for (std::size_t t = 0; t < frames && failures.empty(); ++t)
+    for (const glm::dvec3& x : read_positions(file, pieces.size(), vertices, t))
+      if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z)) {
+        failures.push_back("frames/positions.bin: frame " + std::to_string(t) + " has a position that is not finite");
+        break;
+      }
+  record(report, "frames", failures, "topology.obj and " + std::to_string(frames) + " frames of positions.bin read");
+  if (!failures.empty()) return {};
+  const std::size_t count = pieces.size();
+  return [file, count, vertices](std::size_t t) { return read_positions(file, count, vertices, t); };
+}
+
+FrameReader check_obj_frames(const fs::path& out, const std::vector<PieceFile>& pieces, std::size_t frames, CheckReport& report) {
   std::vector<std::string> failures, missing, extra;
   list_frames(out / "frames", frames, missing, extra);
   if (!missing.empty())
@@ -120,6 +192,16 @@ void check_frames(const fs::path& out, const std::vector<PieceFile>& pieces, std
     ++checked;
   }
   record(report, "frames", failures, std::to_string(checked) + " of " + std::to_string(frames) + " frames read");
+  if (!failures.empty()) return {};
+  const fs::path dir = out / "frames";
+  return [dir](std::size_t t) { return read_obj(dir / frame_name(t)).positions; };
+}
+
+}  // namespace
+
+FrameReader check_frames(const fs::path& out, const std::vector<PieceFile>& pieces, std::size_t frames, CheckReport& report) {
+  if (fs::exists(out / "frames" / "positions.bin")) return check_positions(out, pieces, frames, report);
+  return check_obj_frames(out, pieces, frames, report);
 }
 
 }  // namespace fracref::check_detail

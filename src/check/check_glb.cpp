@@ -1,6 +1,7 @@
 // The glb check: animation.glb read back with its own GLB reader (not the writer's code) and held
 // against glTF 2.0 and against the piece files and report.json.
 #include <algorithm>
+#include <bit>
 #include <cstdio>
 #include <fstream>
 #include <set>
@@ -11,7 +12,7 @@
 
 #include "scene/json_strict.hpp"
 
-#include "check/check_internal.hpp"
+#include "check/check_glb_internal.hpp"
 
 namespace fracref::check_detail {
 namespace {
@@ -20,18 +21,7 @@ namespace fs = std::filesystem;
 using Json = nlohmann::json;
 using Tri = std::array<std::uint32_t, 3>;
 
-// The first thing wrong with the file; caught once, recorded as the check's failure.
-struct Problem : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
 constexpr std::uint32_t kMagic = 0x46546C67, kChunkJson = 0x4E4F534A, kChunkBin = 0x004E4942;
-
-std::uint32_t u32_at(const std::string& bytes, std::size_t offset) {
-  std::uint32_t v = 0;
-  for (int k = 3; k >= 0; --k) v = (v << 8) | std::uint8_t(bytes[offset + std::size_t(k)]);
-  return v;
-}
 
 std::string hex(std::uint32_t v) {
   char buffer[16];
@@ -79,7 +69,14 @@ Json parse_json(const std::string& text) {
   return j;
 }
 
-// j[key] as an array (empty when absent).
+}  // namespace
+
+std::uint32_t u32_at(const std::string& bytes, std::size_t offset) {
+  std::uint32_t v = 0;
+  for (int k = 3; k >= 0; --k) v = (v << 8) | std::uint8_t(bytes[offset + std::size_t(k)]);
+  return v;
+}
+
 const Json& array_of(const Json& j, const char* key, const std::string& where) {
   static const Json empty = Json::array();
   if (!j.contains(key)) return empty;
@@ -103,6 +100,8 @@ std::size_t optional_size(const Json& j, const char* key, const std::string& whe
 
 std::string name_at(const char* what, std::size_t i) { return std::string(what) + "[" + std::to_string(i) + "]"; }
 
+namespace {
+
 // Where each buffer view lies in the BIN chunk: (offset, length), each checked against it.
 std::vector<std::pair<std::size_t, std::size_t>> check_views(const Json& j, const std::string& bin) {
   const Json& buffers = array_of(j, "buffers", "gltf");
@@ -124,14 +123,6 @@ std::vector<std::pair<std::size_t, std::size_t>> check_views(const Json& j, cons
   return views;
 }
 
-struct AccessorInfo {
-  int component = 0;
-  std::string type;
-  std::size_t count = 0;
-  bool has_view = false, has_bounds = false;
-  std::size_t offset = 0;  // in the BIN chunk
-};
-
 std::size_t component_size(int c) {
   switch (c) {
     case 5120: case 5121: return 1;
@@ -147,6 +138,25 @@ std::size_t type_width(const std::string& t) {
   if (t == "VEC3") return 3;
   if (t == "VEC4" || t == "MAT2") return 4;
   return t == "MAT3" ? 9 : t == "MAT4" ? 16 : 0;
+}
+
+// A sparse accessor's indices (strictly increasing, below count) and values within their views.
+void check_sparse(const Json& sp, const std::vector<std::pair<std::size_t, std::size_t>>& views, std::size_t element,
+                  const std::string& where, AccessorInfo& a) {
+  a.sparse_count = optional_size(sp, "count", where + ".sparse");
+  const Json& idx = sp.contains("indices") ? sp["indices"] : Json::object();
+  const Json& val = sp.contains("values") ? sp["values"] : Json::object();
+  a.sparse_component = idx.value("componentType", 0);
+  const std::size_t isize = component_size(a.sparse_component);
+  if (a.sparse_count == 0 || a.sparse_count > a.count || (isize != 1 && isize != 2 && isize != 4) || a.sparse_component == 5120 ||
+      a.sparse_component == 5122)
+    throw Problem(where + ".sparse: bad count or index componentType");
+  const auto [ioff, ilen] = views[index_at(idx, "bufferView", where + ".sparse.indices", views.size())];
+  const auto [voff, vlen] = views[index_at(val, "bufferView", where + ".sparse.values", views.size())];
+  const std::size_t istart = optional_size(idx, "byteOffset", where), vstart = optional_size(val, "byteOffset", where);
+  if (istart + isize * a.sparse_count > ilen || vstart + element * a.sparse_count > vlen)
+    throw Problem(where + ".sparse: indices or values run past their buffer view");
+  a.sparse_indices = ioff + istart, a.sparse_values = voff + vstart;
 }
 
 // Every accessor's elements within its buffer view (and so within the BIN chunk).
@@ -171,126 +181,38 @@ std::vector<AccessorInfo> check_accessors(const Json& j, const std::vector<std::
       a.has_view = true;
       a.offset = offset + start;
     }
+    if (list[i].contains("sparse")) check_sparse(list[i]["sparse"], views, component_size(a.component) * type_width(a.type), where, a);
     out.push_back(a);
   }
   return out;
 }
 
-// The frames animation.glb keeps: 0, step, 2 step, ... and the last (gltf_writer.hpp).
-std::size_t kept_frames(std::size_t frames, std::size_t step) {
-  if (frames == 0) return 0;
-  return (frames - 1) / step + 1 + ((frames - 1) % step ? 1 : 0);
+std::uint32_t index_value(const std::string& bin, std::size_t at, int component) {
+  if (component == 5121) return std::uint8_t(bin[at]);
+  if (component == 5123) return std::uint32_t(std::uint8_t(bin[at])) | std::uint32_t(std::uint8_t(bin[at + 1])) << 8;
+  return u32_at(bin, at);
 }
 
-struct Expect {
-  std::size_t targets = 0;  // morph targets per mesh
-  std::size_t keys = 0;     // animation keys (kept frames)
-};
+}  // namespace
 
-Expect expected_animation(const Json& j, std::size_t frames) {
-  std::size_t step = 1;
-  const Json& animations = array_of(j, "animations", "gltf");
-  if (!animations.empty() && animations[0].contains("extras")) {
-    const Json& extras = animations[0]["extras"];
-    step = std::max<std::size_t>(1, optional_size(extras, "frame_step", "animations[0].extras"));
-    if (extras.contains("frame_count") && optional_size(extras, "frame_count", "animations[0].extras") != frames)
-      throw Problem("animations[0].extras.frame_count is " + extras["frame_count"].dump() + ", report.json has " + std::to_string(frames) + " frames");
-  }
-  Expect e;
-  e.keys = kept_frames(frames, step);
-  e.targets = e.keys > 0 ? e.keys - 1 : 0;
-  return e;
-}
-
-void require_vec3_positions(const AccessorInfo& a, std::size_t vertices, const std::string& where) {
-  if (a.component != 5126 || a.type != "VEC3") throw Problem(where + ": POSITION is not float VEC3");
-  if (a.count != vertices) throw Problem(where + ": " + std::to_string(a.count) + " vertices, the piece file has " + std::to_string(vertices));
-  if (!a.has_bounds) throw Problem(where + ": POSITION accessor without min and max (glTF requires them)");
-}
-
-std::vector<Tri> read_triangles(const AccessorInfo& a, const std::string& bin, std::size_t vertices, const std::string& where) {
-  if (a.component != 5125 || a.type != "SCALAR" || !a.has_view || a.count % 3)
-    throw Problem(where + ": indices are not uint32 triangles in a buffer view");
-  std::vector<Tri> out(a.count / 3);
-  for (std::size_t i = 0; i < a.count; ++i) {
-    const std::uint32_t v = u32_at(bin, a.offset + 4 * i);
-    if (v >= vertices) throw Problem(where + ": index " + std::to_string(v) + " out of range (" + std::to_string(vertices) + " vertices)");
-    out[i / 3][i % 3] = v;
+std::vector<double> float_values(const GlbFile& g, std::size_t index, std::size_t width, const std::string& where) {
+  const AccessorInfo& a = g.acc.at(index);
+  if (a.component != 5126 || type_width(a.type) != width) throw Problem(where + ": not a float accessor of " + std::to_string(width) + " components");
+  std::vector<double> out(a.count * width, 0.0);
+  auto at = [&](std::size_t offset) { return double(std::bit_cast<float>(u32_at(g.bin, offset))); };
+  if (a.has_view)
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = at(a.offset + 4 * i);
+  std::size_t previous = 0;
+  for (std::size_t k = 0; k < a.sparse_count; ++k) {
+    const std::uint32_t i = index_value(g.bin, a.sparse_indices + k * component_size(a.sparse_component), a.sparse_component);
+    if (i >= a.count || (k > 0 && i <= previous)) throw Problem(where + ": sparse indices not increasing or out of range");
+    previous = i;
+    for (std::size_t c = 0; c < width; ++c) out[i * width + c] = at(a.sparse_values + 4 * (k * width + c));
   }
   return out;
 }
 
-// One primitive: positions, morph targets and triangles against the piece file.
-void check_primitive(const Json& j, const Json& prim, const std::vector<AccessorInfo>& acc, const std::string& bin,
-                     const PieceFile& piece, const Expect& e, const std::string& where) {
-  const std::size_t vertices = piece.mesh.positions.size();
-  if (!prim.contains("attributes")) throw Problem(where + ": no attributes");
-  require_vec3_positions(acc[index_at(prim["attributes"], "POSITION", where + ".attributes", acc.size())], vertices, where);
-  const Json& targets = array_of(prim, "targets", where);
-  if (targets.size() != e.targets)
-    throw Problem(where + ": " + std::to_string(targets.size()) + " morph targets, expected " + std::to_string(e.targets) +
-                  " (one per kept frame after the first)");
-  for (std::size_t t = 0; t < targets.size(); ++t)
-    require_vec3_positions(acc[index_at(targets[t], "POSITION", where + name_at(".targets", t), acc.size())], vertices,
-                           where + name_at(".targets", t));
-  const std::size_t material = index_at(prim, "material", where, array_of(j, "materials", "gltf").size());
-  const bool inside = j["materials"][material].value("name", std::string()) == "inside";
-  const std::vector<Tri> faces = read_triangles(acc[index_at(prim, "indices", where, acc.size())], bin, vertices, where);
-  if (faces != obj_order(piece, inside ? 1 : 0))
-    throw Problem(where + ": its " + std::to_string(faces.size()) + " triangles differ from the " + (inside ? "inside" : "outside") +
-                  " faces of " + piece.name);
-}
-
-void check_meshes(const Json& j, const std::vector<AccessorInfo>& acc, const std::string& bin, const std::vector<PieceFile>& pieces,
-                  const Expect& e) {
-  const Json& nodes = array_of(j, "nodes", "gltf");
-  if (nodes.size() != pieces.size())
-    throw Problem(std::to_string(nodes.size()) + " nodes, report.json has " + std::to_string(pieces.size()) + " pieces");
-  const Json& meshes = array_of(j, "meshes", "gltf");
-  for (std::size_t p = 0; p < nodes.size(); ++p) {
-    char name[32];
-    std::snprintf(name, sizeof name, "piece_%03zu", p);
-    if (nodes[p].value("name", std::string()) != name) throw Problem(name_at("nodes", p) + " is not named " + name);
-    if (!pieces[p].present) continue;  // already reported by piece_files
-    const std::size_t m = index_at(nodes[p], "mesh", name_at("nodes", p), meshes.size());
-    const Json& prims = array_of(meshes[m], "primitives", name_at("meshes", m));
-    if (prims.empty()) throw Problem(name_at("meshes", m) + " has no primitive");
-    std::size_t triangles = 0;
-    for (std::size_t k = 0; k < prims.size(); ++k) {
-      check_primitive(j, prims[k], acc, bin, pieces[p], e, name_at("meshes", m) + name_at(".primitives", k));
-      triangles += acc[prims[k]["indices"].get<std::size_t>()].count / 3;
-    }
-    if (triangles != pieces[p].mesh.triangles.size())
-      throw Problem(std::string(name) + ": " + std::to_string(triangles) + " triangles, " + pieces[p].name + " has " +
-                    std::to_string(pieces[p].mesh.triangles.size()));
-  }
-}
-
-// One weights channel per node, keys at the kept frames' times, one weight per target per key.
-void check_animation(const Json& j, const std::vector<AccessorInfo>& acc, std::size_t nodes, const Expect& e) {
-  const Json& animations = array_of(j, "animations", "gltf");
-  if (e.targets == 0) return;
-  if (animations.size() != 1) throw Problem(std::to_string(animations.size()) + " animations, expected 1");
-  const Json& channels = array_of(animations[0], "channels", "animations[0]");
-  const Json& samplers = array_of(animations[0], "samplers", "animations[0]");
-  if (channels.size() != nodes) throw Problem(std::to_string(channels.size()) + " animation channels, expected one per node (" + std::to_string(nodes) + ")");
-  std::set<std::size_t> animated;
-  for (std::size_t c = 0; c < channels.size(); ++c) {
-    const std::string where = name_at("animations[0].channels", c);
-    const Json& target = channels[c].contains("target") ? channels[c]["target"] : Json::object();
-    if (target.value("path", std::string()) != "weights" || !animated.insert(index_at(target, "node", where + ".target", nodes)).second)
-      throw Problem(where + ": not the one weights channel of a node");
-    const Json& sampler = samplers[index_at(channels[c], "sampler", where, samplers.size())];
-    const AccessorInfo& input = acc[index_at(sampler, "input", where + ".sampler", acc.size())];
-    const AccessorInfo& output = acc[index_at(sampler, "output", where + ".sampler", acc.size())];
-    if (input.count != e.keys || !input.has_bounds || input.component != 5126)
-      throw Problem(where + ": sampler input has " + std::to_string(input.count) + " float keys" + (input.has_bounds ? "" : " without min/max") +
-                    ", expected " + std::to_string(e.keys) + " with min/max");
-    const std::size_t per_key = sampler.value("interpolation", std::string("LINEAR")) == "CUBICSPLINE" ? 3 : 1;
-    if (output.count != e.keys * e.targets * per_key)
-      throw Problem(where + ": sampler output has " + std::to_string(output.count) + " weights, expected " + std::to_string(e.keys * e.targets * per_key));
-  }
-}
+namespace {
 
 std::string read_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -302,24 +224,37 @@ std::string read_file(const fs::path& path) {
 
 }  // namespace
 
-void check_glb(const fs::path& out, const std::vector<PieceFile>& pieces, std::size_t frames, CheckReport& report) {
+void check_glb(const fs::path& out, const std::vector<PieceFile>& pieces, std::size_t frames, const FrameReader& frame,
+               CheckReport& report) {
+  GlbFile g;
   try {
     const std::string bytes = read_file(out / "animation.glb");
     const GlbParts parts = split_glb(bytes);
     if (parts.bin.empty()) throw Problem("no BIN chunk");
-    const Json j = parse_json(parts.json);
-    if (!j.contains("asset") || !j["asset"].is_object() || j["asset"].value("version", std::string()) != "2.0")
+    g.j = parse_json(parts.json);
+    g.bin = parts.bin;
+    if (!g.j.contains("asset") || !g.j["asset"].is_object() || g.j["asset"].value("version", std::string()) != "2.0")
       throw Problem("asset.version is not \"2.0\"");
-    const std::vector<AccessorInfo> acc = check_accessors(j, check_views(j, parts.bin));
-    const Expect e = expected_animation(j, frames);
-    check_meshes(j, acc, parts.bin, pieces, e);
-    check_animation(j, acc, pieces.size(), e);
-    record(report, "glb", {}, std::to_string(pieces.size()) + " nodes, " + std::to_string(e.targets) + " morph targets each, " +
+    g.acc = check_accessors(g.j, check_views(g.j, g.bin));
+    const GlbSummary s = check_glb_pieces(g, pieces, frames);
+    record(report, "glb", {}, std::to_string(pieces.size()) + " nodes (" + std::to_string(s.rigid) + " moved by node transforms, " +
+                                  std::to_string(s.deforming) + " by " + std::to_string(s.targets) + " morph targets each), " +
                                   std::to_string(bytes.size()) + " bytes");
   } catch (const Problem& p) {
     record(report, "glb", {"animation.glb: " + std::string(p.what())}, "");
+    return;
   } catch (const Json::exception& e) {  // a member of the wrong JSON type
     record(report, "glb", {"animation.glb: JSON chunk: " + std::string(e.what())}, "");
+    return;
+  }
+  if (!frame) {
+    record_skipped(report, "glb_frames", "no frames/ to compare with (the scene's output.frames is false), or they failed their check");
+    return;
+  }
+  try {
+    check_glb_frames(g, pieces, frames, frame, report);
+  } catch (const Problem& p) {
+    record(report, "glb_frames", {"animation.glb: " + std::string(p.what())}, "");
   }
 }
 

@@ -3,10 +3,13 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "check/check_output.hpp"
+#include <glm/glm.hpp>
+
 #include "io/mesh_soup.hpp"
 
 namespace fracref::check_detail {
@@ -28,12 +31,18 @@ void record_skipped(CheckReport& report, const std::string& name, const std::str
 /// inside; only the outside (0) or inside (1) ones when `only_group` is 0 or 1.
 std::vector<std::array<std::uint32_t, 3>> obj_order(const PieceFile& f, int only_group = -1);
 
-/// The frames check (see check_output). \throw InputError when a frame file cannot be read.
-void check_frames(const std::filesystem::path& out, const std::vector<PieceFile>& pieces, std::size_t frames,
-                  CheckReport& report);
+/// Frame t of frames/ as every piece's vertices in piece order. \throw InputError when it cannot be read.
+using FrameReader = std::function<std::vector<glm::dvec3>(std::size_t)>;
 
-/// The glb check of animation.glb (see check_output); failures are recorded, never thrown.
+/// The frames check (see check_output) of frames/positions.bin and topology.obj when
+/// positions.bin is there, else of frames/frame_NNNN.obj. Returns a reader of the frames when
+/// they passed, else an empty one. \throw InputError when a frame file cannot be read.
+FrameReader check_frames(const std::filesystem::path& out, const std::vector<PieceFile>& pieces, std::size_t frames,
+                         CheckReport& report);
+
+/// The glb check of animation.glb (see check_output), then, with a `frame` reader, the
+/// glb_frames check; failures are recorded, never thrown.
 void check_glb(const std::filesystem::path& out, const std::vector<PieceFile>& pieces, std::size_t frames,
-               CheckReport& report);
+               const FrameReader& frame, CheckReport& report);
 
 }  // namespace fracref::check_detail

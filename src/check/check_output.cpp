@@ -274,17 +274,22 @@ CheckReport check_output(const fs::path& out, const CheckOptions& options) {
   report.frames = count_key(report_json, "frames", report_file);
   record(report, "report", {}, std::to_string(report.pieces) + " pieces, " + std::to_string(report.frames) + " frames");
   if (!report_json.contains("piece_meshes") && !fs::exists(out / "pieces")) {
-    for (const char* name : {"piece_files", "piece_meshes", "partition", "shared_vertices", "frames", "glb"})
+    for (const char* name : {"piece_files", "piece_meshes", "partition", "shared_vertices", "frames", "glb", "glb_frames"})
       record_skipped(report, name, "no pieces in this output (the run stopped before the pieces stage)");
     return report;
   }
   const std::vector<PieceFile> files = check_piece_files(out, report_json, report.pieces, report);
   check_meshes(out, files, options, report);
   check_shared(files, report);
-  if (fs::exists(out / "frames")) check_frames(out, files, report.frames, report);
-  else record_skipped(report, "frames", "no frames/ folder (the run did not animate)");
-  if (fs::exists(out / "animation.glb")) check_glb(out, files, report.frames, report);
-  else record_skipped(report, "glb", "no animation.glb (the run did not animate, or the scene's output.glb is false)");
+  FrameReader frame;
+  if (fs::exists(out / "frames")) frame = check_frames(out, files, report.frames, report);
+  else record_skipped(report, "frames", "no frames/ folder (the run did not animate, or the scene's output.frames is false)");
+  if (fs::exists(out / "animation.glb")) {
+    check_glb(out, files, report.frames, frame, report);
+  } else {
+    record_skipped(report, "glb", "no animation.glb (the run did not animate, or the scene's output.glb is false)");
+    record_skipped(report, "glb_frames", "no animation.glb");
+  }
   return report;
 }
 

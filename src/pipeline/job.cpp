@@ -19,6 +19,7 @@
 #include "pipeline/strength.hpp"
 #include "animate/animate.hpp"
 #include "animate/gltf_writer.hpp"
+#include "animate/piece_surface.hpp"
 #include "pieces/pieces.hpp"
 #include "refine/refine.hpp"
 #include "util/atomic_output.hpp"
@@ -206,15 +207,17 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   require_valid_pieces(checked);
   PieceWriteOptions wo;
   wo.ply = scene.output.ply;
-  wo.obj = scene.output.obj;
+  wo.obj = false;  // written below, with split normals
   write_pieces(pieces, out, wo);
+  if (scene.output.obj) write_piece_objs(pieces, out);
   report.seconds("pieces", seconds_since(t_pieces));
   if (o.stop_after == Stage::pieces || animation.frames.empty())
     return report.finish(out, seconds_since(t0), [&] { return preview_pieces(pieces, &field.zeta); });
   progress("animate", 0.0, std::to_string(animation.frames.size()) + " frames");
   const auto t_animate = Clock::now();
   AnimationTransfer transfer = build_transfer(model, animation, refined.tree, pieces);
-  if (scene.output.frames) write_frames(pieces, transfer, animation, out);
+  const FramesFormat format = scene.output.frames_format == "obj" ? FramesFormat::kObj : FramesFormat::kBinary;
+  if (scene.output.frames) write_frames(pieces, transfer, animation, out, format);
   report.animated(transfer, scene.output.frames ? animation.frames.size() : 0);
   if (scene.output.glb) report.gltf(write_animation_glb(pieces, transfer, animation, out / "animation.glb"));
   const int sheet = o.preview_frames.value_or(scene.output.preview_frames);

@@ -95,7 +95,8 @@ void JobReport::animated(const AnimationTransfer& transfer, std::size_t frames_w
 }
 
 void JobReport::gltf(const GltfSummary& g) {
-  j_["glb"] = {{"bytes", g.bytes}, {"frames_kept", g.frames_kept}, {"frame_step", g.frame_step}};
+  j_["glb"] = {{"bytes", g.bytes}, {"frames_kept", g.frames_kept}, {"frame_step", g.frame_step},
+              {"rigid_pieces", g.rigid_pieces}};
   if (g.frame_step > 1 || g.over_budget)
     note("animation.glb: " + std::to_string(g.frames_kept) + " of " + std::to_string(g.frame_count) +
          " frames kept (frame step " + std::to_string(g.frame_step) + ", and the last frame): " +

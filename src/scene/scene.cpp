@@ -158,6 +158,7 @@ OutputSpec read_output(ObjectReader r) {
   o.obj = r.boolean("obj", o.obj);
   o.glb = r.boolean("glb", o.glb);
   o.frames = r.boolean("frames", o.frames);
+  o.frames_format = r.choice("frames_format", {"bin", "obj"}, o.frames_format);
   o.preview = r.boolean("preview", o.preview);
   o.preview_frames = int(r.integer("preview_frames", o.preview_frames, {0, 1000}));
   r.finish();

@@ -77,7 +77,9 @@ struct OutputSpec {
   bool ply = true;
   bool obj = true;
   bool glb = true;
-  bool frames = true;     ///< per-frame meshes when the scene is animated
+  bool frames = false;    ///< frames/ when the scene is animated (scenes/OUTPUTS.md)
+  /// frames/ as one topology plus per-frame positions ("bin") or one OBJ per frame ("obj").
+  std::string frames_format = "bin";
   bool preview = true;    ///< preview.png
   int preview_frames = 0; ///< animated preview frames, in [0, 1000]
 };
