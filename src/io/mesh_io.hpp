@@ -7,8 +7,9 @@
 //   "mesh.obj:12: coordinate 'nan' is not finite"
 //   "mesh.ply: byte 1234: file ends inside face 7 (truncated)"
 // Accepted exactly as written (nothing merged, dropped or reoriented): non-manifold edges and
-// vertices, inconsistent winding, unused vertices, quads and n-gons (fan-triangulated from
-// their first vertex and counted in MeshSoup::polygons_triangulated), CRLF line endings, and a
+// vertices, inconsistent winding, unused vertices, quads and n-gons (triangulated in their own
+// plane by ear clipping, non-convex ones included, and counted in
+// MeshSoup::polygons_triangulated), CRLF line endings, and a
 // UTF-8 byte order mark at the start of an OBJ or OFF file.
 //
 // Numbers are parsed with std::from_chars (exact, locale-free): one leading '+' is allowed on

@@ -32,7 +32,7 @@ struct MeshSoup {
   std::vector<std::array<std::uint32_t, 3>> triangles;  ///< 0-based vertex indices
   std::vector<std::uint32_t> triangle_polygon;          ///< source polygon index per triangle
   std::size_t polygons = 0;               ///< faces in the file
-  std::size_t polygons_triangulated = 0;  ///< of them, faces with > 3 vertices (fan-triangulated)
+  std::size_t polygons_triangulated = 0;  ///< of them, faces with > 3 vertices (triangulated)
   std::vector<std::string> groups;            ///< OBJ `o`/`g` names in order of first use; empty if none
   std::vector<std::uint32_t> triangle_group;  ///< per triangle, index into groups (empty if none)
   std::vector<PropertyColumn> vertex_properties;  ///< PLY extra per-vertex properties

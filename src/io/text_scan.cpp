@@ -10,6 +10,8 @@
 #include <sstream>
 #include <system_error>
 
+#include "io/polygon_triangulation.hpp"
+
 namespace fracref::io_detail {
 namespace fs = std::filesystem;
 
@@ -155,10 +157,16 @@ InputError input_error_at_byte(const std::string& file, std::size_t offset, cons
 
 void append_polygon(MeshSoup& soup, const std::uint32_t* v, std::size_t n) {
   const auto polygon = static_cast<std::uint32_t>(soup.polygons);
-  for (std::size_t i = 1; i + 1 < n; ++i) {
-    soup.triangles.push_back({v[0], v[i], v[i + 1]});
-    soup.triangle_polygon.push_back(polygon);
+  // A polygon whose corners are all read already is triangulated in its plane; one naming a
+  // vertex further on (OBJ allows it, rarely) is fanned.
+  bool known = n > 3;
+  for (std::size_t i = 0; known && i < n; ++i) known = v[i] < soup.positions.size();
+  if (known) {
+    triangulate_polygon(soup.positions, v, n, soup.triangles);
+  } else {
+    for (std::size_t i = 1; i + 1 < n; ++i) soup.triangles.push_back({v[0], v[i], v[i + 1]});
   }
+  soup.triangle_polygon.resize(soup.triangles.size(), polygon);
   ++soup.polygons;
   if (n > 3) ++soup.polygons_triangulated;
 }

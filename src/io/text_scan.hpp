@@ -58,8 +58,9 @@ bool parse_int64(std::string_view token, std::int64_t& out, std::string& why);
 /// "<file>: byte <offset>: <what>" — located errors in binary data.
 InputError input_error_at_byte(const std::string& file, std::size_t offset, const std::string& what);
 
-/// Appends polygon `v[0..n)` (n >= 3, 0-based) as a fan of n-2 triangles (v0, vi, vi+1) and
-/// counts it in `polygons` / `polygons_triangulated`.
+/// Appends polygon `v[0..n)` (n >= 3, 0-based) as n-2 triangles and counts it in `polygons` /
+/// `polygons_triangulated`: triangulated in its own plane (triangulate_polygon) when every corner
+/// is already in soup.positions, else as the fan (v0, vi, vi+1).
 void append_polygon(MeshSoup& soup, const std::uint32_t* v, std::size_t n);
 
 /// The first repeated value of `v[0..n)`, or -1 when all differ.
