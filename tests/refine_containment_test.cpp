@@ -9,6 +9,7 @@
 #include "pieces_test_support.hpp"
 #include "refine/containment.hpp"
 #include "refine/exterior.hpp"
+#include "util/error.hpp"
 
 namespace fracref {
 namespace {
@@ -110,4 +111,19 @@ TEST(RefineContainment, ChordNearBIsSplitAtItsMidpointWhenTheMoveInwardIsBlocked
 }
 
 }  // namespace
+TEST(Exterior, SelfIntersectingExteriorIsRefusedUpFrontNamingTwoFaces) {
+  MeshSoup cube = pieces_test::voxel_surface({{0, 0, 0}}, 1.0);
+  EXPECT_NO_THROW(make_exterior(cube, "cube.obj"));
+  // Pull the corner (1, 1, 1) through the face x = 0: still closed, manifold and outward wound.
+  for (glm::dvec3& p : cube.positions)
+    if (p == glm::dvec3(1, 1, 1)) p = glm::dvec3(-0.5, 0.5, 0.5);
+  try {
+    make_exterior(cube, "cube.obj");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cube.obj: the exterior surface intersects itself: faces "), std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace fracref

@@ -29,6 +29,25 @@ glm::dvec3 ExteriorSurface::normal(std::uint32_t t) const {
   return len > 0.0 ? n / len : glm::dvec3(0.0);
 }
 
+namespace {
+
+std::string face_text(const MeshSoup& mesh, std::uint32_t f) {
+  const auto& t = mesh.triangles[f];
+  return std::to_string(f) + " (" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ")";
+}
+
+// A self-intersecting exterior has no inside to partition: refused here rather than after the
+// refinement, when its pieces cannot be closed.
+void check_not_self_intersecting(const MeshSoup& mesh, const std::string& what) {
+  const std::vector<TriangleIds> faces(mesh.triangles.begin(), mesh.triangles.end());
+  const auto pairs = find_self_intersections(mesh.positions, faces, 1);
+  if (!pairs.empty())
+    throw InputError(what + ": the exterior surface intersects itself: faces " + face_text(mesh, pairs[0].first) +
+                     " and " + face_text(mesh, pairs[0].second) + " cross (faces and vertices counted from 0)");
+}
+
+}  // namespace
+
 ExteriorSurface make_exterior(const MeshSoup& mesh, const std::string& what) {
   // The collision trees are built beside the checks below (an error of the checks still comes
   // first: the trees' own errors are raised only once the checks have passed).
@@ -49,6 +68,7 @@ ExteriorSurface make_exterior(const MeshSoup& mesh, const std::string& what) {
   if (!(volume > 0.0))
     throw InputError(what + ": the exterior surface is wound inward (its signed volume is " + std::to_string(volume) +
                      "); reverse its faces");
+  check_not_self_intersecting(mesh, what);
   ExteriorSurface b;
   b.bvh = build_bvh(mesh.positions, mesh.triangles);
   b.ccd = ccd.get();

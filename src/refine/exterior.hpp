@@ -28,7 +28,7 @@ struct ExteriorSurface {
 
 /// Builds the exterior from a mesh. \throw InputError naming `what` when the mesh is not one
 /// closed, edge- and vertex-manifold, consistently and outward wound surface (checked through
-/// the OpenMesh halfedge structure), or has no triangles.
+/// the OpenMesh halfedge structure), has no triangles, or intersects itself (names two faces).
 ExteriorSurface make_exterior(const MeshSoup& mesh, const std::string& what);
 
 }  // namespace fracref
