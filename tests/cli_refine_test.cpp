@@ -99,6 +99,21 @@ TEST(CliRefine, RimMotionKeyLetsTheRimSlide) {
   EXPECT_NE(slurp(t.path / "false" / "fracture_surface.ply"), slurp(t.path / "true" / "fracture_surface.ply"));
 }
 
+TEST(CliRefine, RigidTransformsOnATetMeshWhosePiecesShareVertices) {
+  // One vertex per point, as a mesher writes it; the two halves move apart by rigid transforms.
+  TempDir t;
+  t.write("cube.obj", kCube);
+  t.write("cube.mesh", cube_mesh(2));
+  const std::string id = " 1 0 0 0  0 1 0 0  0 0 1 ";
+  t.write("rigid.txt", "0 0" + id + "0\n0 1" + id + "0\n1 0" + id + "0\n1 1" + id + "0.5\n");
+  auto s = t.write("scene.json", scene(R"(, "animation": {"kind": "rigid", "transforms": "rigid.txt"})"));
+  const fs::path out = t.path / "out";
+  auto r = run("refine " + s.string() + " -o " + out.string() + " --backend cpu -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run("check " + out.string());
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+}
+
 TEST(CliRefine, BadSceneNamesTheKeyAndLeavesTheOutputAlone) {
   TempDir t;
   t.write("cube.obj", kCube);

@@ -82,6 +82,10 @@ struct TetModelOptions {
   bool virtual_fracture = true;
   /// Vertices closer than this fraction of the bounding-box diagonal (per coordinate) are welded.
   double weld_tolerance = 1e-9;
+  /// Give every label its own copy of the vertices it shares with other labels (what a mesher
+  /// writes, one vertex per point, is then animated by per-piece rigid transforms: each piece
+  /// moves its own copies). Topology is unchanged: the copies weld back together.
+  bool own_vertices = false;
 };
 
 /// Builds the coarse model of a labelled tet mesh.

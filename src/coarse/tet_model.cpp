@@ -1,5 +1,6 @@
 // The coarse model of a labelled tet mesh: faces, cuts, virtual fracture, pieces, S and hull.
 #include <algorithm>
+#include <map>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -304,6 +305,31 @@ CoarseModel build_tet_model(const TetMesh& mesh, const CrackList* cracks, const 
   return TetBuilder(mesh, cracks, options).build();
 }
 
+namespace {
+
+// Vertex v stays v for the lowest label using it; every other label using it gets a copy,
+// appended in the order (v, label), so the numbering depends only on the mesh.
+TetMesh with_vertices_per_label(TetMesh mesh) {
+  std::vector<std::pair<std::uint32_t, std::int64_t>> uses;  // (vertex, label)
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int c = 0; c < 4; ++c)
+      if (mesh.tets[t][c] < mesh.vertices.size()) uses.emplace_back(mesh.tets[t][c], mesh.labels[t]);
+  std::sort(uses.begin(), uses.end());
+  uses.erase(std::unique(uses.begin(), uses.end()), uses.end());
+  std::map<std::pair<std::uint32_t, std::int64_t>, std::uint32_t> copy;
+  for (std::size_t k = 0; k < uses.size(); ++k) {
+    if (k == 0 || uses[k].first != uses[k - 1].first) continue;
+    copy[uses[k]] = std::uint32_t(mesh.vertices.size());
+    mesh.vertices.push_back(mesh.vertices[uses[k].first]);
+  }
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int c = 0; c < 4; ++c)
+      if (const auto it = copy.find({mesh.tets[t][c], mesh.labels[t]}); it != copy.end()) mesh.tets[t][c] = it->second;
+  return mesh;
+}
+
+}  // namespace
+
 CoarseModel load_tet_model(const std::filesystem::path& mesh, const std::filesystem::path& cracks,
                            const TetModelOptions& options) {
   const std::string ext = lower_extension(mesh);
@@ -313,6 +339,7 @@ CoarseModel load_tet_model(const std::filesystem::path& mesh, const std::filesys
   else
     throw InputError(mesh.string() + ": unknown tetrahedral mesh format '" + ext +
                      "' (expected .mesh for MEDIT, .node or .ele for TetGen)");
+  if (options.own_vertices) tets = with_vertices_per_label(std::move(tets));
   if (cracks.empty()) return build_tet_model(tets, nullptr, options);
   const CrackList list = read_cracks(cracks);
   return build_tet_model(tets, &list, options);

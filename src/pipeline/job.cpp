@@ -57,6 +57,7 @@ CoarseModel load_coarse(const Scene& scene) {
     case FractureKind::tets: {
       TetModelOptions o;
       o.virtual_fracture = f.virtual_fracture;
+      o.own_vertices = scene.animation.kind == AnimationKind::rigid;
       return load_tet_model(f.mesh, f.cracks, o);
     }
     case FractureKind::pieces: return f.files.empty() ? load_pieces(f.mesh) : load_pieces(f.files);
