@@ -159,6 +159,9 @@ TEST(ParseScene, OtherVariants) {
   EXPECT_EQ(t.animation.fps, 24.0);
   const Scene c = parse_patched(R"({"fracture": {"kind": "cuts", "mesh": "cuts.obj"}})");
   EXPECT_EQ(c.fracture.kind, FractureKind::cuts);
+  EXPECT_EQ(c.fracture.cells_per_diagonal, 24.0);
+  EXPECT_EQ(parse_patched(R"({"fracture": {"kind": "cuts", "mesh": "c.obj", "cells_per_diagonal": 60}})").fracture.cells_per_diagonal,
+            60.0);
   const Scene p = parse_patched(R"({"fracture": {"kind": "pieces", "mesh": "pieces.obj"}})");
   EXPECT_EQ(p.fracture.mesh, fs::path("/jobs/bunny/pieces.obj"));
   const Scene g = parse_patched(R"({"field": {"type": "grid", "resolution": null, "file": "s.raw"}})");
@@ -324,6 +327,11 @@ TEST(SceneErrors, InconsistentKeys) {
             "/jobs/bunny/scene.json: key 'fracture.files': only allowed when kind is 'pieces' (use 'mesh')");
   EXPECT_EQ(patched_error(R"({"fracture": {"kind": "cuts", "cracks": "c.txt"}})"),
             "/jobs/bunny/scene.json: key 'fracture.cracks': only allowed when kind is 'tets'");
+  EXPECT_EQ(patched_error(R"({"fracture": {"cells_per_diagonal": 30}})"),
+            "/jobs/bunny/scene.json: key 'fracture.cells_per_diagonal': only allowed when kind is 'cuts'");
+  EXPECT_NE(patched_error(R"({"fracture": {"kind": "cuts", "mesh": "c.obj", "cells_per_diagonal": 1e308}})")
+                .find("key 'fracture.cells_per_diagonal'"),
+            std::string::npos);
   EXPECT_EQ(patched_error(R"({"field": {"type": "grid", "resolution": null}})"),
             "/jobs/bunny/scene.json: key 'field.file': required key is missing");
   EXPECT_EQ(patched_error(R"({"field": {"file": "s.raw"}})"),

@@ -64,6 +64,7 @@ CoarseModel load_coarse(const Scene& scene) {
     case FractureKind::cuts: {
       CutsOptions o;
       o.virtual_fracture = f.virtual_fracture;
+      o.cells_per_diagonal = f.cells_per_diagonal;
       return load_cuts_model(scene.exterior, f.mesh, o);
     }
   }

@@ -66,6 +66,11 @@ FractureSpec read_fracture(ObjectReader r, const fs::path& dir) {
     r.forbid("cracks", "only allowed when kind is 'tets'");
   }
   f.virtual_fracture = r.boolean("virtual_fracture", true);
+  if (f.kind == FractureKind::cuts) {
+    f.cells_per_diagonal = r.number("cells_per_diagonal", f.cells_per_diagonal, Range::closed(4.0, 128.0));
+  } else {
+    r.forbid("cells_per_diagonal", "only allowed when kind is 'cuts'");
+  }
   r.finish();
   return f;
 }
