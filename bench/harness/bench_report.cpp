@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "batch/bench.hpp"
+#include "harness/bench.hpp"
 #include "version.hpp"
 
 namespace fracref {

@@ -1,5 +1,5 @@
 // `fracref bench`: the paper's scenes and the kernels on the CPU and Vulkan backends, as tables
-// on stdout and, with --json, a file (src/batch/bench.hpp has what is measured and how).
+// on stdout and, with --json, a file (bench/harness/bench.hpp has what is measured and how).
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -9,7 +9,7 @@
 #include <iostream>
 #include <memory>
 
-#include "batch/bench.hpp"
+#include "harness/bench.hpp"
 #include "cli.hpp"
 #include "cli_progress.hpp"
 #include "scenegen/scenegen.hpp"

@@ -6,7 +6,7 @@
 #include <iterator>
 #include <sstream>
 
-#include "batch/bench.hpp"
+#include "harness/bench.hpp"
 
 using namespace fracref;
 using nlohmann::ordered_json;
@@ -38,7 +38,7 @@ std::vector<SceneBenchResult> hand_made_results() {
 
 }  // namespace
 
-TEST(BatchBenchReport, RecordRunReadsEveryStageTheFinalEnergyAndTheCounts) {
+TEST(BenchReport, RecordRunReadsEveryStageTheFinalEnergyAndTheCounts) {
   SceneBenchResult r;
   record_run(ordered_json::parse(R"({"coarse_triangles": 8, "refined_triangles": 40, "initial_energy": 9.0,
       "iterations": [{"energy": 5.0, "triangles": 20}, {"energy": 3.5, "triangles": 40}],
@@ -66,7 +66,7 @@ TEST(BatchBenchReport, RecordRunReadsEveryStageTheFinalEnergyAndTheCounts) {
 }
 
 // The refinement's stop reason and quality, the last run's (absent before refine).
-TEST(BatchBenchReport, RecordRunReadsTheStopReasonAndTheQuality) {
+TEST(BenchReport, RecordRunReadsTheStopReasonAndTheQuality) {
   SceneBenchResult r;
   record_run(ordered_json::parse(R"({"refined_triangles": 40, "stop_reason": "converged",
       "quality": {"energy_ratio": 0.7, "weak_fraction": {"coarse": 0.2, "refined": 0.3, "threshold": 0.25}}})"),
@@ -81,7 +81,7 @@ TEST(BatchBenchReport, RecordRunReadsTheStopReasonAndTheQuality) {
   EXPECT_FALSE(r.weak_refined.has_value());
 }
 
-TEST(BatchBenchReport, CompareBackendsPairsRunsAndAddsStartUp) {
+TEST(BenchReport, CompareBackendsPairsRunsAndAddsStartUp) {
   const std::vector<SceneComparison> c = compare_backends(hand_made_results());
   ASSERT_EQ(c.size(), 2u);
   EXPECT_EQ(c[0].scene, "wall");
@@ -108,7 +108,7 @@ TEST(BatchBenchReport, CompareBackendsPairsRunsAndAddsStartUp) {
   EXPECT_FALSE(c[1].total_ratio.has_value());
 }
 
-TEST(BatchBenchReport, CompareBackendsRelativeDifferencesAgainstZero) {
+TEST(BenchReport, CompareBackendsRelativeDifferencesAgainstZero) {
   std::vector<SceneBenchResult> r = hand_made_results();
   r[0].final_energy = {0.0}, r[1].final_energy = {0.0};
   r[0].refined_triangles = 0, r[1].refined_triangles = 5;
@@ -120,7 +120,7 @@ TEST(BatchBenchReport, CompareBackendsRelativeDifferencesAgainstZero) {
   EXPECT_TRUE(compare_backends({r[1]}).empty());
 }
 
-TEST(BatchBenchReport, JsonCarriesEveryStageTheEnergyAndTheComparisons) {
+TEST(BenchReport, JsonCarriesEveryStageTheEnergyAndTheComparisons) {
   auto cpu = make_cpu_backend(1);
   const std::vector<BenchBackend> backends = {{"cpu", cpu.get(), "", 0.001}, {"vulkan", nullptr, "no driver"}};
   const ordered_json j = bench_json(hand_made_results(), {}, backends, 3, Stage::animate, {});
@@ -159,7 +159,7 @@ TEST(BatchBenchReport, JsonCarriesEveryStageTheEnergyAndTheComparisons) {
   EXPECT_TRUE(none["setup_refine_ratio"].is_null());
 }
 
-TEST(BatchBenchReport, SceneTableShowsStagesAndTheComparison) {
+TEST(BenchReport, SceneTableShowsStagesAndTheComparison) {
   const std::string t = scene_table(hand_made_results(), 3, Stage::animate);
   for (const char* header : {"triangles", "final energy", "setup s", "refine s", "pieces s", "animate s", "total s",
                              "paper s", "refine/paper", "vs cpu", "setup+refine", "refined triangles"})
@@ -184,7 +184,7 @@ TEST(BatchBenchReport, SceneTableShowsStagesAndTheComparison) {
   EXPECT_NE(scene_table(hand_made_results(), 3, Stage::pieces).find("Stopped after pieces."), std::string::npos);
 }
 
-TEST(BatchBenchReport, SceneTableWithoutASecondBackendHasNoComparison) {
+TEST(BenchReport, SceneTableWithoutASecondBackendHasNoComparison) {
   const std::vector<SceneBenchResult> r = hand_made_results();
   const std::string t = scene_table({r[0], r[2]}, 3, Stage::animate);
   EXPECT_EQ(t.find("setup+refine"), std::string::npos) << t;
