@@ -303,9 +303,8 @@ std::vector<Examined> slot_pairs(const SlotTree<A>& a, const SlotTree<B>& b, boo
 
 // The trees of a search, built before its traversals: each build on one thread (a build's own
 // two threads leave its serial parts, the sort's counts, the allocations, on one core), the
-// largest first, each onto the thread with less work so far. On the wall's steps the triangles'
-// tree alone is as large as the other vertex-triangle trees together. The trees do not depend
-// on the schedule.
+// largest first, each onto the thread with less work so far: one tree (the triangles') can be as
+// large as all the others together. The trees do not depend on the schedule.
 class TreeBuilds {
  public:
   void add(std::size_t size, std::function<void()> build) { builds_.push_back({size, std::move(build)}); }
