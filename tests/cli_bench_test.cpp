@@ -79,11 +79,11 @@ TEST(CliBench, ScenesWithoutVulkanSayWhyAndTheCpuStillRuns) {
   // The same run as Markdown: a table for the CPU backend, Vulkan's reason, the command.
   const std::string md = slurp(markdown);
   const int all = fracref::default_threads();  // the CLI's too: every hardware thread
-  const std::string cpu = "CPU backend, " + std::to_string(all) + (all == 1 ? " thread" : " threads");
-  EXPECT_EQ(md.rfind("## " + cpu + "; vulkan (unavailable)\n", 0), 0u) << md;
+  const std::string cpu_kind = "CPU backend, " + std::to_string(all) + (all == 1 ? " thread" : " threads");
+  EXPECT_EQ(md.rfind("## " + cpu_kind + "; vulkan (unavailable)\n", 0), 0u) << md;
   EXPECT_NE(md.find("`fracref bench --scenes wall --backends cpu,vulkan --repeat 2 --stop-after preprocess --no-kernels`"),
             std::string::npos) << md;
-  EXPECT_NE(md.find("### " + cpu + "\n\n| scene | triangles |"), std::string::npos) << md;
+  EXPECT_NE(md.find("### " + cpu_kind + "\n\n| scene | triangles |"), std::string::npos) << md;
   EXPECT_NE(md.find("\n| wall | "), std::string::npos) << md;
   EXPECT_NE(md.find("### vulkan (unavailable)\n\nUnavailable: "), std::string::npos) << md;
 }
