@@ -12,7 +12,7 @@
 #include <map>
 #include <memory>
 
-#include "batch/bench.hpp"
+#include "harness/bench.hpp"
 #include "flow/backend.hpp"
 #include "vk_backend.hpp"
 

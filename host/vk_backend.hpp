@@ -1,8 +1,7 @@
 #pragma once
-// The Vulkan compute backend (DESIGN.md, Backends): the kernels of src/flow/backend.hpp on a
+// The Vulkan compute backend (docs/DESIGN.md, "Backends"): the kernels of src/flow/backend.hpp on a
 // Vulkan device, with the CPU backend's semantics (same formulas, same operation order:
-// results bit for bit on any device that honours `precise`, lavapipe and an H100 seen so; see
-// shaders/flow_common.h).
+// results bit for bit on any device that honours `precise`; see shaders/flow_common.h).
 //
 // Use (e.g. for the CLI's --backend vulkan):
 //   std::unique_ptr<ComputeBackend> be = make_vulkan_backend();   // owns its VulkanContext
@@ -15,7 +14,7 @@
 // vertex_velocities uploads the positions on every call, and the faces, vf_offsets and vf_faces
 // only when they changed: each is compared (size, then memcmp) with a host shadow copy of what
 // was last uploaded, which costs one extra host copy of the topology and a memcmp per call,
-// about a tenth of the kernels' time on lavapipe. sample_tests uploads all of its inputs (they
+// far less than uploading it again. sample_tests uploads all of its inputs (they
 // change every call). Counts go to a uniform block and group counts to an indirect dispatch
 // buffer, so the two command buffers (K1 + K2 with a barrier between them; K3) are recorded
 // once and replayed until a buffer moves to a larger size class.

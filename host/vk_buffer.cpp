@@ -23,8 +23,8 @@ VulkanBuffer::VulkanBuffer(VulkanContext& context, VkDeviceSize bytes, VkBufferU
     alloc.allocationSize = req.size;
     // Host-cached where there is such memory: the CPU reads the results (and grow() the old
     // contents) through the mapping, and on a discrete GPU reads of device-local memory through
-    // the BAR are uncached: on an H100 the kernels' calls took ten times as long as two CPU
-    // threads. On lavapipe the one memory type is all of these at once.
+    // the BAR are uncached, which would make every call slower than the CPU backend. On lavapipe
+    // the one memory type is all of these at once.
     alloc.memoryTypeIndex =
         context.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
                             VK_MEMORY_PROPERTY_HOST_CACHED_BIT);

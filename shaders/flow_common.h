@@ -1,7 +1,7 @@
 // GLSL only: the arithmetic the flow kernels share with their CPU twins, operation for
 // operation, so that both backends agree to rounding (bit for bit on a device that honours
 // `precise`; division and sqrt go through flow_div and flow_sqrt, which round correctly where the
-// device's own are only faithful, as Vulkan allows and an H100's are):
+// device's own are only faithful, as Vulkan allows and some GPUs' are):
 //   flow_sample_field       = sample_field            (src/field/field_sampler.cpp)
 //   flow_accumulate_face    = accumulate_face_gradient (src/flow/velocity.cpp)
 // GLM's formulas are spelled out (mix, cross, length) because GLSL leaves the built-ins'

@@ -13,7 +13,8 @@ using uvec4 = glm::uvec4;
 using ivec4 = glm::ivec4;
 #endif
 
-/// Workgroup size of every 1D kernel (DESIGN.md: 32–256 perform alike on lavapipe).
+/// Workgroup size of every 1D kernel: a multiple of every common subgroup width; the kernels are
+/// bound by gathers, not by the workgroup's size.
 #define FRACREF_WORKGROUP 64
 
 // ---- Gaussian pyramid: one decimating 1D blur pass (shaders/pyramid_blur.comp) ----

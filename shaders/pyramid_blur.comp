@@ -16,8 +16,8 @@ layout(push_constant) uniform Push { BlurParams p; };
 void main() {
   const uvec3 d = p.dst_dims.xyz;
   // One dispatch row of workgroups per z plane: a single division per invocation (integer
-  // division is scalar on lavapipe: a flat index cost 25% more), and idle lanes only in the last
-  // workgroup of each plane (a 3D dispatch idled most lanes on narrow grids).
+  // division is scalar on lavapipe, so a flat index's second division costs), and idle lanes only
+  // in the last workgroup of each plane (a 3D dispatch idles most lanes on narrow grids).
   const uint j = gl_GlobalInvocationID.x;
   if (j >= d.x * d.y) return;
   const uint y = j / d.x;

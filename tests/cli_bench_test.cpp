@@ -1,11 +1,12 @@
-// `fracref bench` as a user runs it, on small invocations: the JSON's structure, an unavailable
-// Vulkan saying why while the CPU still runs, the bunny skipped without its mesh, bad options.
-// No timing is asserted.
+// `fracref bench` as a user runs it, on small invocations: the JSON's and the Markdown's
+// structure, an unavailable Vulkan saying why while the CPU still runs, the bunny skipped
+// without its mesh, bad options. No timing is asserted.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "util/parallel.hpp"
 
 using cli_test::run;
 using cli_test::slurp;
@@ -45,8 +46,9 @@ TEST(CliBench, KernelsOnlyWritesOneEntryPerKernelSizeAndBackend) {
 TEST(CliBench, ScenesWithoutVulkanSayWhyAndTheCpuStillRuns) {
   TempDir t;
   const auto file = t.path / "bench.json";
+  const auto markdown = t.path / "bench.md";
   auto r = run("bench --scenes wall --backends cpu,vulkan --repeat 2 --no-kernels --stop-after preprocess --json " +
-                   file.string(),
+                   file.string() + " --markdown " + markdown.string(),
                kNoVulkan);
   ASSERT_EQ(r.code, 0) << r.err;
   const json j = json::parse(slurp(file));
@@ -74,6 +76,16 @@ TEST(CliBench, ScenesWithoutVulkanSayWhyAndTheCpuStillRuns) {
   EXPECT_TRUE(j["comparisons"][0]["setup_refine_ratio"].is_null());
   EXPECT_NE(r.out.find("! wall on vulkan: unavailable"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("Stopped after preprocess"), std::string::npos) << r.out;
+  // The same run as Markdown: a table for the CPU backend, Vulkan's reason, the command.
+  const std::string md = slurp(markdown);
+  const int all = fracref::default_threads();  // the CLI's too: every hardware thread
+  const std::string cpu_kind = "CPU backend, " + std::to_string(all) + (all == 1 ? " thread" : " threads");
+  EXPECT_EQ(md.rfind("## " + cpu_kind + "; vulkan (unavailable)\n", 0), 0u) << md;
+  EXPECT_NE(md.find("`fracref bench --scenes wall --backends cpu,vulkan --repeat 2 --stop-after preprocess --no-kernels`"),
+            std::string::npos) << md;
+  EXPECT_NE(md.find("### " + cpu_kind + "\n\n| scene | triangles |"), std::string::npos) << md;
+  EXPECT_NE(md.find("\n| wall | "), std::string::npos) << md;
+  EXPECT_NE(md.find("### vulkan (unavailable)\n\nUnavailable: "), std::string::npos) << md;
 }
 
 TEST(CliBench, TheBunnyIsSkippedWithANoteWhenItsMeshIsMissing) {

@@ -1,4 +1,4 @@
-// The velocity of equation 3: the checks DESIGN.md asks for.
+// The velocity of equation 3: the checks docs/DESIGN.md ("The velocity") names.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,7 +1,7 @@
 #pragma once
 // High-resolution animation (paper section 5, "High-Resolution Animation Production";
-// DESIGN.md pipeline step 6): the coarse animation's deformation is transferred to every vertex
-// of every high-resolution piece, frame by frame.
+// docs/DESIGN.md "Pipeline", step 6): the coarse animation's deformation is transferred to
+// every vertex of every high-resolution piece, frame by frame.
 //
 // Method (build_transfer, then transfer_frame per frame):
 //  1. Anchors. An anchor is a coarse model vertex m as seen by piece p. Its deformation in frame

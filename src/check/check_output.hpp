@@ -1,6 +1,6 @@
 #pragma once
 // `fracref check OUT`: re-reads an output folder written by fracref with the strict readers and
-// re-verifies what DESIGN.md "What the outputs must satisfy" promises. The folder layout and
+// re-verifies what docs/DESIGN.md "What the outputs must satisfy" promises. The folder layout and
 // every check are documented in scenes/OUTPUTS.md.
 #include <cstddef>
 #include <filesystem>

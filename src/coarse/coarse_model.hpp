@@ -1,5 +1,5 @@
 #pragma once
-// The low-resolution fracture (paper section 4.1, DESIGN.md pipeline steps 1-2): what every
+// The low-resolution fracture (paper section 4.1, docs/DESIGN.md "Pipeline", steps 1-2): what every
 // coarse input kind becomes. A tetrahedral mesh with a piece label per tet (what a FEM fracture
 // simulator leaves) or a set of closed pre-fractured pieces (what Blender Cell Fracture, Houdini
 // or Blast export) is turned into a CoarseModel holding the canonical fracture surface S.

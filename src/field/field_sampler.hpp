@@ -1,6 +1,7 @@
 #pragma once
 // The sampled modified strength field ψ with its pyramid-averaged gradient, precomputed on the
-// base grid so that evaluating (ψ, ∇ψ) at a point is one trilinear fetch (DESIGN.md, Backends).
+// base grid so that evaluating (ψ, ∇ψ) at a point is one trilinear fetch (docs/DESIGN.md,
+// "Pipeline", step 3).
 #include <vector>
 
 #include <glm/glm.hpp>

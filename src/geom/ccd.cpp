@@ -276,10 +276,10 @@ bool far_apart(double distance, double needed) { return distance > needed + 1e-9
 // between the two primitives' projections on a line n, compared as gap² > needed² |n|². Pairs the
 // broad phase finds are mostly neighbours on the surface, nearly coplanar, and separated along one
 // of: the line through their centroids (n scaled to integer weights), or a direction in their
-// common plane perpendicular to one primitive's edge (a triangle's normal too). On the wall demo
-// these settle 95% of the edge pairs and all but a few hundred of the 3.6M vertex-triangle pairs,
-// the exact distance (a chain of divisions and a root) the rest. Their rounding (a few ulps of
-// |n| scale) is far inside the 1e-12 scale margin, as with the exact distance.
+// common plane perpendicular to one primitive's edge (a triangle's normal too). These cheap
+// tests settle most pairs; the exact distance (a chain of divisions and a root) settles the
+// rest. Their rounding (a few ulps of |n| scale) is far inside the 1e-12 scale margin, as with
+// the exact distance.
 template <int A, int B>
 bool separated_along(const dvec3& n, const dvec3 (&a)[A], const dvec3 (&b)[B], double needed) {
   double alo = glm::dot(n, a[0]), ahi = alo, blo = glm::dot(n, b[0]), bhi = blo;

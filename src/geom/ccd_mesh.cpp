@@ -101,10 +101,9 @@ namespace {
 
 using namespace ccd_detail;
 
-// Leaves of 16 boxes: on the bunny's last flow step (172K triangles) the broad phase is most of
-// the cost, and halving the tree depth took a tenth off a call (leaves of 4: 297 ms median, 8:
-// 270, 16: 272). With the slabs' test after the boxes' (cheap, on slot data read in order), 16
-// took 1-5% off the wall's searches against 8 (three interleaved runs each).
+// Leaves of 16 boxes: on a large surface the broad phase is most of a call's cost, and a
+// shallower tree visits fewer nodes; the slabs' test after the boxes' (cheap, on slot data read
+// in order) makes the larger leaves' extra pair tests cheap.
 constexpr std::uint32_t kLeaf = 16;
 
 // Which vertices, triangles and edges move over the step; with `all_moving` every used vertex
@@ -304,9 +303,8 @@ std::vector<Examined> slot_pairs(const SlotTree<A>& a, const SlotTree<B>& b, boo
 
 // The trees of a search, built before its traversals: each build on one thread (a build's own
 // two threads leave its serial parts, the sort's counts, the allocations, on one core), the
-// largest first, each onto the thread with less work so far. On the wall's steps the triangles'
-// tree alone is as large as the other vertex-triangle trees together. The trees do not depend
-// on the schedule.
+// largest first, each onto the thread with less work so far: one tree (the triangles') can be as
+// large as all the others together. The trees do not depend on the schedule.
 class TreeBuilds {
  public:
   void add(std::size_t size, std::function<void()> build) { builds_.push_back({size, std::move(build)}); }

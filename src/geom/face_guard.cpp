@@ -9,7 +9,7 @@
 namespace fracref {
 namespace {
 
-// Built for a handful of queries on a surface of up to ~200K faces: the build is the cost.
+// Built for a handful of queries on a whole surface: the build, not the queries, is the cost.
 Bvh face_tree(const std::vector<Aabb>& boxes, int threads) {
   BvhOptions o;
   o.threads = threads;

@@ -8,9 +8,9 @@ namespace fracref {
 
 /// A float <= x: x moved down by 2^-22 of itself (twice the float rounding, at most 2^-24
 /// relative) and by 1e-37 (the floats' subnormal range) before it is rounded. The exact
-/// rounding's direction goes either way at random: a mispredicted branch and a library call per
-/// bound took a quarter of a tree's build. Beyond the floats' range: the exact rounding down (the
-/// largest float for x above it, -inf below). \pre x not NaN.
+/// rounding's direction goes either way at random, and a mispredicted branch and a library call
+/// per bound would be a large share of a tree's build. Beyond the floats' range: the exact
+/// rounding down (the largest float for x above it, -inf below). \pre x not NaN.
 inline float float_below(double x) {
   if (!(std::abs(x) < 1e38)) {
     const float f = static_cast<float>(x);

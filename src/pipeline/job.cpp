@@ -11,12 +11,12 @@
 #include "field/field_sampler.hpp"
 #include "field/grid_file.hpp"
 #include "field/procedural.hpp"
+#include "field/strength.hpp"
 #include "flow/timed_backend.hpp"
 #include "io/mesh_io.hpp"
 #include "pipeline/job_outputs.hpp"
 #include "pipeline/surface_preview.hpp"
 #include "pipeline/material.hpp"
-#include "pipeline/strength.hpp"
 #include "animate/animate.hpp"
 #include "animate/gltf_writer.hpp"
 #include "animate/piece_surface.hpp"
@@ -97,7 +97,8 @@ Field build_field(const Scene& scene, const ExteriorSurface& b, const CoarseMode
   for (const glm::vec4& p : model.surface.positions) pos.push_back(glm::dvec3(glm::vec3(p)));
   std::vector<std::array<std::uint32_t, 3>> tris;
   for (const glm::uvec4& t : model.surface.faces) tris.push_back({t.x, t.y, t.z});
-  Grid3 psi = modified_field(f.zeta, distance_grid(f.zeta, pos, tris), scene.weights, diag);
+  const FieldWeights weights{scene.weights.strength, scene.weights.distance, scene.weights.offset};
+  Grid3 psi = modified_field(f.zeta, distance_grid(f.zeta, pos, tris), weights, diag);
   PyramidOptions po;
   po.levels = scene.pyramid.levels;
   po.sigma = float(scene.pyramid.sigma);

@@ -37,7 +37,7 @@ struct DemoOptions {
   std::uint64_t seed = 1;
 };
 
-/// The paper's numbers for one scene (DESIGN.md, "The paper's scenes").
+/// The paper's numbers for one scene (docs/DESIGN.md, "The paper's scenes").
 struct DemoTarget {
   std::string name;
   std::size_t coarse_triangles = 0;   ///< triangles of the coarse fracture surface

@@ -59,12 +59,12 @@ void parallel_chunks(std::size_t n, std::size_t chunks, int threads, Fn&& fn) {
       }
     }
   };
-  // The caller waits rather than works: on the 2-core VM, a thread started beside a busy caller
-  // often shared its core for the whole call (the flow kernels ran at half speed: both halves
-  // concurrent, each twice as long), where threads started beside a waiting caller did not.
-  // Threads kept between calls: starting and joining two cost ~60 us a call there, waking two
-  // kept ones ~22 us (the clay's refinement makes ~300 calls). Threads that cannot be started
-  // leave their chunks to the caller, so every chunk still runs.
+  // The caller waits rather than works: on a machine with as many cores as chunks, a worker
+  // started beside a busy caller can share the caller's core for the whole call, so the call
+  // takes as long as two chunks in turn; beside a waiting caller it gets a core of its own.
+  // Threads are kept between calls: waking a kept thread costs less than starting and joining a
+  // new one, and the refiner makes many short calls. Threads that cannot be started leave their
+  // chunks to the caller, so every chunk still runs.
   if (!parallel_detail::run_on_pool(workers, [](void* w) { (*static_cast<decltype(work)*>(w))(); }, &work)) {
     std::vector<std::thread> pool;
     try {

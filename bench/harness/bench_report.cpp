@@ -1,9 +1,10 @@
-// The bench's JSON and its two tables.
+// The bench's JSON, its two text tables and its Markdown report.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "batch/bench.hpp"
+#include "harness/bench.hpp"
+#include "util/parallel.hpp"
 #include "version.hpp"
 
 namespace fracref {
@@ -189,14 +190,15 @@ Row scene_row(const SceneBenchResult& r) {
   return row;
 }
 
-std::string comparison_table(const std::vector<SceneComparison>& comparisons) {
+/// The comparison table's rows, header first.
+std::vector<Row> comparison_rows(const std::vector<SceneComparison>& comparisons) {
   std::vector<Row> rows = {{"scene", "vs cpu", "setup+refine", "total", "refined triangles", "final energy"}};
   for (const SceneComparison& c : comparisons)
     rows.push_back({c.scene, c.backend, c.setup_refine_ratio ? ratio_text(*c.setup_refine_ratio) : "-",
                     c.total_ratio ? ratio_text(*c.total_ratio) : "-",
                     difference_text(c.triangle_difference, c.triangle_relative_difference),
                     c.energy_relative_difference ? percent_text(*c.energy_relative_difference) : "-"});
-  return format_table(rows, 2);
+  return rows;
 }
 
 /// "vulkan 0.41 s, cpu 0.0001 s": each available backend's start-up, in the results' order.
@@ -211,17 +213,104 @@ std::string startup_text(const std::vector<SceneBenchResult>& scenes) {
   return out;
 }
 
+std::string medians_text(int repeat) {
+  return "Medians of " + std::to_string(repeat) + (repeat == 1 ? " run" : " runs") +
+         ", interleaved (repeat, scene, backend); seconds are the job's own (report.json), - where a "
+         "stage did not run; final energy: after the last refine iteration.";
+}
+
+std::string comparison_text(const std::vector<SceneBenchResult>& scenes) {
+  return "vs cpu: setup+refine = median over paired runs of (setup + refine + backend start-up) / the same on "
+         "cpu (start-up, median of 5 creations: " + startup_text(scenes) + "); total = median total / cpu median total; "
+         "refined triangles = backend - cpu (relative to cpu); final energy = (backend - cpu) / |cpu|.";
+}
+
+const char* const kPaperText =
+    "Paper: one core of an i7-2600 (2014), refinement only (its pyramid initialisation took 10-30 s more); "
+    "refine/paper compares our refine median with it, whatever triangle counts each reached.";
+
+const char* const kKernelText =
+    "ms per call, medians, interleaved; call_*: the fixed cost of a call on 9 vertices with nothing changed; "
+    "pyramid: 5 levels.";
+
 std::string scene_footer(const std::vector<SceneBenchResult>& scenes, int repeat, Stage stop_after, bool compared) {
-  std::string out = "Medians of " + std::to_string(repeat) + (repeat == 1 ? " run" : " runs") +
-                    ", interleaved (repeat, scene, backend); seconds are the job's own (report.json), - where a "
-                    "stage did not run; final energy: after the last refine iteration.\n";
-  if (compared)
-    out += "vs cpu: setup+refine = median over paired runs of (setup + refine + backend start-up) / the same on "
-           "cpu (start-up, median of 5 creations: " + startup_text(scenes) + "); total = median total / cpu median total; "
-           "refined triangles = backend - cpu (relative to cpu); final energy = (backend - cpu) / |cpu|.\n";
+  std::string out = medians_text(repeat) + "\n";
+  if (compared) out += comparison_text(scenes) + "\n";
   if (stop_after != Stage::animate) out += std::string("Stopped after ") + to_string(stop_after) + ".\n";
-  out += "Paper: one core of an i7-2600 (2014), refinement only (its pyramid initialisation took 10-30 s more); "
-         "refine/paper compares our refine median with it, whatever triangle counts each reached.\n";
+  return out + kPaperText + "\n";
+}
+
+const Row kSceneHeader = {"scene", "backend", "triangles", "final energy", "stop", "E ratio", "weak fraction",
+                          "setup s", "refine s", "kernels s", "pieces s", "animate s", "total s", "paper triangles",
+                          "paper s", "refine/paper"};
+
+/// The kernel table's rows, header first; the failures met go to `errors`.
+std::vector<Row> kernel_rows(const std::vector<KernelBenchResult>& kernels, const std::vector<BenchBackend>& backends,
+                             std::vector<std::string>& errors) {
+  Row header = {"kernel", "size"};
+  for (const BenchBackend& b : backends) header.push_back(b.key + " ms");
+  for (const BenchBackend& b : backends)
+    if (b.key != "cpu") header.push_back(b.key + "/cpu");
+  std::vector<Row> rows = {header};
+  for (std::size_t i = 0; i < kernels.size(); i += backends.size()) {
+    Row row = {kernels[i].kernel, size_label(kernels[i])};
+    for (std::size_t b = 0; b < backends.size() && i + b < kernels.size(); ++b) {
+      const KernelBenchResult& k = kernels[i + b];
+      row.push_back(k.ms.empty() ? "n/a" : fmt(median(k.ms)));
+      if (!k.error.empty() && (backends[b].backend || i == 0)) errors.push_back(k.kernel + " on " + k.backend + ": " + k.error);
+    }
+    for (std::size_t b = 0; b < backends.size() && i + b < kernels.size(); ++b) {
+      if (backends[b].key == "cpu") continue;
+      const KernelBenchResult& k = kernels[i + b];
+      const KernelBenchResult* cpu = cpu_kernel(kernels, k);
+      row.push_back(cpu && !cpu->ms.empty() && !k.ms.empty() ? ratio_text(median(k.ms) / median(cpu->ms)) : "-");
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+/// Text on one line: line breaks as spaces.
+std::string one_line(std::string text) {
+  std::replace(text.begin(), text.end(), '\n', ' ');
+  std::replace(text.begin(), text.end(), '\r', ' ');
+  return text;
+}
+
+/// A Markdown cell: '|' escaped, line breaks as spaces, " -> " as an arrow.
+std::string markdown_cell(const std::string& text) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text.compare(i, 4, " -> ") == 0) {
+      out += " → ";
+      i += 3;
+    } else if (text[i] == '|') {
+      out += "\\|";
+    } else {
+      out += text[i] == '\n' || text[i] == '\r' ? ' ' : text[i];
+    }
+  }
+  return out;
+}
+
+/// A Markdown table: the first row is the header; the first `left` columns left-aligned, the
+/// rest right-aligned; short rows padded with empty cells.
+std::string markdown_table(const std::vector<Row>& rows, std::size_t left) {
+  if (rows.empty()) return "";
+  const std::size_t columns = rows.front().size();
+  auto line = [&](const Row& r) {
+    std::string s = "|";
+    for (std::size_t c = 0; c < columns; ++c) {
+      s += ' ';
+      if (c < r.size()) s += markdown_cell(r[c]);
+      s += " |";
+    }
+    return s + "\n";
+  };
+  std::string out = line(rows.front()) + "|";
+  for (std::size_t c = 0; c < columns; ++c) out += c < left ? "---|" : "---:|";
+  out += "\n";
+  for (std::size_t i = 1; i < rows.size(); ++i) out += line(rows[i]);
   return out;
 }
 
@@ -245,8 +334,7 @@ ordered_json bench_json(const std::vector<SceneBenchResult>& scenes, const std::
 
 std::string scene_table(const std::vector<SceneBenchResult>& scenes, int repeat, Stage stop_after) {
   if (scenes.empty()) return "";
-  std::vector<Row> rows = {{"scene", "backend", "triangles", "final energy", "stop", "E ratio", "weak fraction", "setup s", "refine s", "kernels s", "pieces s",
-                            "animate s", "total s", "paper triangles", "paper s", "refine/paper"}};
+  std::vector<Row> rows = {kSceneHeader};
   std::vector<std::string> errors;
   for (const SceneBenchResult& r : scenes) {
     rows.push_back(scene_row(r));
@@ -254,38 +342,85 @@ std::string scene_table(const std::vector<SceneBenchResult>& scenes, int repeat,
   }
   std::string out = format_table(rows, 3);
   const std::vector<SceneComparison> comparisons = compare_backends(scenes);
-  if (!comparisons.empty()) out += "\n", out += comparison_table(comparisons);
+  if (!comparisons.empty()) out += "\n", out += format_table(comparison_rows(comparisons), 2);
   for (const std::string& e : errors) out += "  ! " + e + "\n";
   return out + scene_footer(scenes, repeat, stop_after, !comparisons.empty());
 }
 
 std::string kernel_table(const std::vector<KernelBenchResult>& kernels, const std::vector<BenchBackend>& backends) {
   if (kernels.empty()) return "";
-  Row header = {"kernel", "size"};
-  for (const BenchBackend& b : backends) header.push_back(b.key + " ms");
-  for (const BenchBackend& b : backends)
-    if (b.key != "cpu") header.push_back(b.key + "/cpu");
-  std::vector<Row> rows = {header};
   std::vector<std::string> errors;
-  for (std::size_t i = 0; i < kernels.size(); i += backends.size()) {
-    Row row = {kernels[i].kernel, size_label(kernels[i])};
-    for (std::size_t b = 0; b < backends.size() && i + b < kernels.size(); ++b) {
-      const KernelBenchResult& k = kernels[i + b];
-      row.push_back(k.ms.empty() ? "n/a" : fmt(median(k.ms)));
-      if (!k.error.empty() && (backends[b].backend || i == 0)) errors.push_back(k.kernel + " on " + k.backend + ": " + k.error);
-    }
-    for (std::size_t b = 0; b < backends.size() && i + b < kernels.size(); ++b) {
-      if (backends[b].key == "cpu") continue;
-      const KernelBenchResult& k = kernels[i + b];
-      const KernelBenchResult* cpu = cpu_kernel(kernels, k);
-      row.push_back(cpu && !cpu->ms.empty() && !k.ms.empty() ? ratio_text(median(k.ms) / median(cpu->ms)) : "-");
-    }
-    rows.push_back(row);
-  }
-  std::string out = format_table(rows, 2);
+  std::string out = format_table(kernel_rows(kernels, backends, errors), 2);
   for (const std::string& e : errors) out += "  ! " + e + "\n";
-  out += "ms per call, medians, interleaved; call_*: the fixed cost of a call on 9 vertices with nothing changed; "
-         "pyramid: 5 levels.\n";
+  return out + kKernelText + "\n";
+}
+
+std::string backend_kind(const BenchBackend& backend) {
+  if (!backend.backend) return backend.key + " (unavailable)";
+  if (backend.key != "vulkan") {
+    const int threads = backend.threads > 0 ? backend.threads : default_threads();
+    return "CPU backend, " + std::to_string(threads) + (threads == 1 ? " thread" : " threads");
+  }
+  std::string device = backend.backend->name();
+  const std::string prefix = "vulkan (";
+  if (device.rfind(prefix, 0) == 0 && device.size() > prefix.size() && device.back() == ')')
+    device = device.substr(prefix.size(), device.size() - prefix.size() - 1);
+  const bool lavapipe = device.find("llvmpipe") != std::string::npos || device.find("lavapipe") != std::string::npos;
+  return (lavapipe ? "lavapipe (" : "GPU (") + device + ")";
+}
+
+std::string bench_markdown(const std::vector<SceneBenchResult>& scenes, const std::vector<KernelBenchResult>& kernels,
+                           const std::vector<BenchBackend>& backends, int repeat, Stage stop_after,
+                           const std::vector<std::string>& notes, const BenchMarkdownContext& context) {
+  std::string heading;
+  for (const BenchBackend& b : backends) heading += (heading.empty() ? "" : "; ") + backend_kind(b);
+  std::string out = "## " + (heading.empty() ? std::string("no backend") : heading) + "\n\n";
+  out += std::string("fracref ") + kVersion;
+  if (!context.command.empty()) out += ", `" + one_line(context.command) + "`";
+  if (context.hardware_threads > 0)
+    out += ", on a machine with " + std::to_string(context.hardware_threads) + " hardware threads";
+  out += ".";
+  if (!scenes.empty()) {
+    out += " " + medians_text(repeat);
+    if (stop_after != Stage::animate) out += std::string(" Stopped after ") + to_string(stop_after) + ".";
+  }
+  out += "\n";
+  std::vector<std::string> failures;
+  for (const BenchBackend& b : backends) {
+    out += "\n### " + backend_kind(b) + "\n\n";
+    if (!b.backend) {
+      out += "Unavailable: " + one_line(b.unavailable) + "\n";
+      continue;
+    }
+    std::vector<Row> rows;
+    for (const SceneBenchResult& r : scenes) {
+      if (r.backend != b.key) continue;
+      Row row = scene_row(r);
+      row.erase(row.begin() + 1);  // the backend: the heading says it
+      rows.push_back(row);
+      if (!r.error.empty()) failures.push_back(r.scene + " on " + r.backend + ": " + r.error);
+    }
+    if (rows.empty()) {
+      out += "No scene was run on it.\n";
+      continue;
+    }
+    Row header = kSceneHeader;
+    header.erase(header.begin() + 1);
+    rows.insert(rows.begin(), header);
+    out += markdown_table(rows, 2);
+  }
+  if (!scenes.empty()) out += std::string("\n") + kPaperText + "\n";
+  const std::vector<SceneComparison> comparisons = compare_backends(scenes);
+  if (!comparisons.empty())
+    out += "\n### Against the CPU backend\n\n" + markdown_table(comparison_rows(comparisons), 2) + "\n" +
+           comparison_text(scenes) + "\n";
+  if (!kernels.empty())
+    out += "\n### Kernels\n\n" + markdown_table(kernel_rows(kernels, backends, failures), 2) + "\n" + kKernelText + "\n";
+  if (!failures.empty() || !notes.empty()) {
+    out += "\n";
+    for (const std::string& f : failures) out += "- failed: " + one_line(f) + "\n";
+    for (const std::string& n : notes) out += "- " + one_line(n) + "\n";
+  }
   return out;
 }
 

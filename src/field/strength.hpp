@@ -10,10 +10,16 @@
 #include <glm/glm.hpp>
 
 #include "field/grid.hpp"
-#include "scene/scene.hpp"
 #include "util/parallel.hpp"
 
 namespace fracref {
+
+/// The weights of ψ: the scene file's `weights` section (defaults and checks there; offset > 0).
+struct FieldWeights {
+  double strength = 1.0;  ///< w_ζ
+  double distance = 4.0;  ///< w_d, per diagonal of distance
+  double offset = 0.05;   ///< ψ0
+};
 
 /// Distance from every node of `grid` (values ignored) to the triangle mesh, in scene units.
 /// Uses a BVH and `threads` threads; deterministic, each value exactly the least distance to a
@@ -24,6 +30,6 @@ Grid3 distance_grid(const Grid3& grid, const std::vector<glm::dvec3>& positions,
 
 /// ψ at every node: w.strength·ζ + w.distance·d/diagonal + w.offset (> 0 by the scene's checks).
 /// \pre zeta and distance have the same dims; diagonal > 0.
-Grid3 modified_field(const Grid3& zeta, const Grid3& distance, const WeightsSpec& w, double diagonal);
+Grid3 modified_field(const Grid3& zeta, const Grid3& distance, const FieldWeights& w, double diagonal);
 
 }  // namespace fracref

@@ -6,7 +6,7 @@
 #include <numeric>
 #include <random>
 
-#include "batch/bench.hpp"
+#include "harness/bench.hpp"
 #include "geom/morton.hpp"
 
 namespace fracref {

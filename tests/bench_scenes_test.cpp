@@ -10,7 +10,7 @@
 #include <set>
 #include <sstream>
 
-#include "batch/bench.hpp"
+#include "harness/bench.hpp"
 
 using namespace fracref;
 namespace fs = std::filesystem;
@@ -55,7 +55,7 @@ std::vector<BenchBackend> cpu_and_missing(ComputeBackend& cpu) {
 
 }  // namespace
 
-TEST(BatchBench, SyntheticSurfaceHasExactTopologyAndConsistentArrays) {
+TEST(Bench, SyntheticSurfaceHasExactTopologyAndConsistentArrays) {
   const BenchSurface s = make_bench_surface(100);
   ASSERT_EQ(s.positions.size(), 100u);
   ASSERT_EQ(s.faces.size(), 2u * 9 * 9);
@@ -89,13 +89,13 @@ TEST(BatchBench, SyntheticSurfaceHasExactTopologyAndConsistentArrays) {
     EXPECT_LE(morton(centroid(s.faces[f - 1])), morton(centroid(s.faces[f]))) << f;
 }
 
-TEST(BatchBench, Median) {
+TEST(Bench, Median) {
   EXPECT_EQ(median({3.0, 1.0, 2.0}), 2.0);
   EXPECT_EQ(median({4.0, 1.0, 2.0, 3.0}), 2.5);
   EXPECT_EQ(median({7.0}), 7.0);
 }
 
-TEST(BatchBench, KernelSeriesInterleavedWithAnUnavailableBackend) {
+TEST(Bench, KernelSeriesInterleavedWithAnUnavailableBackend) {
   auto cpu = make_cpu_backend(1);
   KernelBenchOptions o;
   o.repeat = 2;
@@ -152,7 +152,7 @@ TEST(BatchBench, KernelSeriesInterleavedWithAnUnavailableBackend) {
   EXPECT_EQ(table.find("unavailable: no driver", first + 1), std::string::npos) << "said once:\n" << table;
 }
 
-TEST(BatchBench, SceneSeriesFromTheJobsOwnReports) {
+TEST(Bench, SceneSeriesFromTheJobsOwnReports) {
   TempDir t;
   t.write("cube.obj", kCube);
   t.write("cube.mesh", cube_mesh(2));

@@ -11,8 +11,8 @@ namespace {
 
 // The refiner allocates and frees arrays the size of the surface several times per iteration;
 // glibc serves blocks over 128 KiB by mmap and returns them to the kernel on free, so every
-// iteration paid again for zeroed pages (8% of the bunny's refine time in page faults). Freed
-// blocks stay in the heap instead; the peak memory is unchanged.
+// iteration paid again for zeroed pages (page faults on every new array). Freed blocks stay in
+// the heap instead; the peak memory is unchanged.
 void keep_freed_memory() {
 #if defined(__GLIBC__)
   mallopt(M_MMAP_THRESHOLD, 256 << 20);

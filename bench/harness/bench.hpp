@@ -189,4 +189,30 @@ std::string scene_table(const std::vector<SceneBenchResult>& scenes, int repeat,
 /// The kernel table (empty string when `kernels` is empty).
 std::string kernel_table(const std::vector<KernelBenchResult>& kernels, const std::vector<BenchBackend>& backends);
 
+/// What the Markdown report says about where and how it was measured.
+struct BenchMarkdownContext {
+  std::string command;              ///< the command line of the run, shown verbatim
+  unsigned hardware_threads = 0;    ///< of the machine; 0 = not known
+};
+
+/// The kind of device a backend ran on, the heading of its table in docs/PERFORMANCE.md:
+/// "CPU backend, N threads" for "cpu" and "cpu:N" (N = BenchBackend::threads, or
+/// default_threads() when that is 0); for "vulkan" "lavapipe (<device>)" when its device is Mesa's
+/// llvmpipe, else "GPU (<device>)", <device> taken from the name "vulkan (<device>)"; the key and
+/// "(unavailable)" when it did not start.
+std::string backend_kind(const BenchBackend& backend);
+
+/// The run as GitHub-flavoured Markdown, the section docs/PERFORMANCE.md keeps per machine:
+/// a "## " heading naming the backends' kinds, a line with fracref's version, `context.command`,
+/// the repeat count and the last stage; then per backend, in `backends` order, a "### " heading
+/// (backend_kind()) and a table of its scenes (scene, triangles coarse → refined, stop, E ratio,
+/// weak fraction, median seconds of every stage, the paper's triangles and seconds,
+/// refine/paper), or the reason it was unavailable; then, when a backend was compared with cpu,
+/// a table of the comparisons; then the kernel table (ms per call per backend and the ratios to
+/// cpu); then the failures and notes as a list. Cells hold no '|' (escaped) and no newline; a
+/// figure that is missing is "-". Nothing is measured here: the same results give the same text.
+std::string bench_markdown(const std::vector<SceneBenchResult>& scenes, const std::vector<KernelBenchResult>& kernels,
+                           const std::vector<BenchBackend>& backends, int repeat, Stage stop_after,
+                           const std::vector<std::string>& notes, const BenchMarkdownContext& context);
+
 }  // namespace fracref

@@ -1,12 +1,18 @@
 // The bench's reports from hand-made data: what a run's report.json gives (record_run), the
 // comparison of a backend with cpu (ratios of paired runs with start-up, triangle and energy
-// differences), the JSON's fields and values, and the scene table. No timing is measured.
+// differences), the JSON's fields and values, the scene table and the Markdown report. No timing
+// is measured.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <iterator>
+#include <span>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
-#include "batch/bench.hpp"
+#include "harness/bench.hpp"
+#include "util/parallel.hpp"
 
 using namespace fracref;
 using nlohmann::ordered_json;
@@ -38,7 +44,7 @@ std::vector<SceneBenchResult> hand_made_results() {
 
 }  // namespace
 
-TEST(BatchBenchReport, RecordRunReadsEveryStageTheFinalEnergyAndTheCounts) {
+TEST(BenchReport, RecordRunReadsEveryStageTheFinalEnergyAndTheCounts) {
   SceneBenchResult r;
   record_run(ordered_json::parse(R"({"coarse_triangles": 8, "refined_triangles": 40, "initial_energy": 9.0,
       "iterations": [{"energy": 5.0, "triangles": 20}, {"energy": 3.5, "triangles": 40}],
@@ -66,7 +72,7 @@ TEST(BatchBenchReport, RecordRunReadsEveryStageTheFinalEnergyAndTheCounts) {
 }
 
 // The refinement's stop reason and quality, the last run's (absent before refine).
-TEST(BatchBenchReport, RecordRunReadsTheStopReasonAndTheQuality) {
+TEST(BenchReport, RecordRunReadsTheStopReasonAndTheQuality) {
   SceneBenchResult r;
   record_run(ordered_json::parse(R"({"refined_triangles": 40, "stop_reason": "converged",
       "quality": {"energy_ratio": 0.7, "weak_fraction": {"coarse": 0.2, "refined": 0.3, "threshold": 0.25}}})"),
@@ -81,7 +87,7 @@ TEST(BatchBenchReport, RecordRunReadsTheStopReasonAndTheQuality) {
   EXPECT_FALSE(r.weak_refined.has_value());
 }
 
-TEST(BatchBenchReport, CompareBackendsPairsRunsAndAddsStartUp) {
+TEST(BenchReport, CompareBackendsPairsRunsAndAddsStartUp) {
   const std::vector<SceneComparison> c = compare_backends(hand_made_results());
   ASSERT_EQ(c.size(), 2u);
   EXPECT_EQ(c[0].scene, "wall");
@@ -108,7 +114,7 @@ TEST(BatchBenchReport, CompareBackendsPairsRunsAndAddsStartUp) {
   EXPECT_FALSE(c[1].total_ratio.has_value());
 }
 
-TEST(BatchBenchReport, CompareBackendsRelativeDifferencesAgainstZero) {
+TEST(BenchReport, CompareBackendsRelativeDifferencesAgainstZero) {
   std::vector<SceneBenchResult> r = hand_made_results();
   r[0].final_energy = {0.0}, r[1].final_energy = {0.0};
   r[0].refined_triangles = 0, r[1].refined_triangles = 5;
@@ -120,7 +126,7 @@ TEST(BatchBenchReport, CompareBackendsRelativeDifferencesAgainstZero) {
   EXPECT_TRUE(compare_backends({r[1]}).empty());
 }
 
-TEST(BatchBenchReport, JsonCarriesEveryStageTheEnergyAndTheComparisons) {
+TEST(BenchReport, JsonCarriesEveryStageTheEnergyAndTheComparisons) {
   auto cpu = make_cpu_backend(1);
   const std::vector<BenchBackend> backends = {{"cpu", cpu.get(), "", 0.001}, {"vulkan", nullptr, "no driver"}};
   const ordered_json j = bench_json(hand_made_results(), {}, backends, 3, Stage::animate, {});
@@ -159,7 +165,7 @@ TEST(BatchBenchReport, JsonCarriesEveryStageTheEnergyAndTheComparisons) {
   EXPECT_TRUE(none["setup_refine_ratio"].is_null());
 }
 
-TEST(BatchBenchReport, SceneTableShowsStagesAndTheComparison) {
+TEST(BenchReport, SceneTableShowsStagesAndTheComparison) {
   const std::string t = scene_table(hand_made_results(), 3, Stage::animate);
   for (const char* header : {"triangles", "final energy", "setup s", "refine s", "pieces s", "animate s", "total s",
                              "paper s", "refine/paper", "vs cpu", "setup+refine", "refined triangles"})
@@ -184,10 +190,127 @@ TEST(BatchBenchReport, SceneTableShowsStagesAndTheComparison) {
   EXPECT_NE(scene_table(hand_made_results(), 3, Stage::pieces).find("Stopped after pieces."), std::string::npos);
 }
 
-TEST(BatchBenchReport, SceneTableWithoutASecondBackendHasNoComparison) {
+TEST(BenchReport, SceneTableWithoutASecondBackendHasNoComparison) {
   const std::vector<SceneBenchResult> r = hand_made_results();
   const std::string t = scene_table({r[0], r[2]}, 3, Stage::animate);
   EXPECT_EQ(t.find("setup+refine"), std::string::npos) << t;
   EXPECT_NE(t.find("0.250"), std::string::npos) << t;  // the wall's animate median
   EXPECT_TRUE(scene_table({}, 3, Stage::animate).empty());
+}
+
+namespace {
+
+/// A backend that only has a name: the Markdown report reads nothing else.
+class NamedBackend : public ComputeBackend {
+ public:
+  explicit NamedBackend(std::string name) : name_(std::move(name)) {}
+  std::string name() const override { return name_; }
+  std::vector<Grid3> build_pyramid(const Grid3&, const PyramidOptions&) override { throw std::logic_error("unused"); }
+  void set_field(const FieldGrid4&) override { throw std::logic_error("unused"); }
+  void vertex_velocities(const SurfaceView&, std::span<glm::vec4>, std::span<glm::vec4>) override {
+    throw std::logic_error("unused");
+  }
+  void sample_tests(std::span<const glm::vec4>, std::span<const glm::vec4>, const SampleView&,
+                    std::span<glm::vec4>) override {
+    throw std::logic_error("unused");
+  }
+
+ private:
+  std::string name_;
+};
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+/// The Markdown table that follows the line `heading` in `text`: its lines starting with '|'.
+std::vector<std::string> table_after(const std::string& text, const std::string& heading) {
+  const std::vector<std::string> lines = lines_of(text);
+  std::vector<std::string> table;
+  auto it = std::find(lines.begin(), lines.end(), heading);
+  if (it == lines.end()) return table;
+  for (++it; it != lines.end() && (it->empty() || (*it)[0] == '|'); ++it) {
+    if (it->empty() && !table.empty()) break;
+    if (!it->empty()) table.push_back(*it);
+  }
+  return table;
+}
+
+std::size_t pipes(const std::string& line) { return std::size_t(std::count(line.begin(), line.end(), '|')); }
+
+}  // namespace
+
+TEST(BenchReport, BackendKindNamesTheDevice) {
+  NamedBackend cpu("cpu"), lavapipe("vulkan (llvmpipe (LLVM 15.0.6, 256 bits))"), gpu("vulkan (NVIDIA H100 80GB HBM3)");
+  EXPECT_EQ(backend_kind({"cpu", &cpu, "", 0.0, 2}), "CPU backend, 2 threads");
+  EXPECT_EQ(backend_kind({"cpu", &cpu, "", 0.0, 1}), "CPU backend, 1 thread");
+  EXPECT_EQ(backend_kind({"cpu:3", &cpu, "", 0.0, 3}), "CPU backend, 3 threads");
+  const int all = default_threads();  // "cpu" without a count: the default
+  EXPECT_EQ(backend_kind({"cpu", &cpu, "", 0.0, 0}), "CPU backend, " + std::to_string(all) + (all == 1 ? " thread" : " threads"));
+  EXPECT_EQ(backend_kind({"vulkan", &lavapipe, "", 0.0, 0}), "lavapipe (llvmpipe (LLVM 15.0.6, 256 bits))");
+  EXPECT_EQ(backend_kind({"vulkan", &gpu, "", 0.0, 0}), "GPU (NVIDIA H100 80GB HBM3)");
+  EXPECT_EQ(backend_kind({"vulkan", nullptr, "no driver", 0.0, 0}), "vulkan (unavailable)");
+}
+
+// The section docs/PERFORMANCE.md keeps per machine: a heading, one table per backend with a
+// header, an alignment row and one row per scene, every row as wide as its header; the
+// comparison and the kernels; the notes. Hand-made results: nothing is timed.
+TEST(BenchReport, MarkdownHasOneTablePerBackend) {
+  NamedBackend cpu("cpu"), lavapipe("vulkan (llvmpipe (LLVM 15.0.6, 256 bits))");
+  const std::vector<BenchBackend> backends = {{"cpu", &cpu, "", 0.0, 2}, {"vulkan", &lavapipe, "", 0.5, 0}};
+  std::vector<KernelBenchResult> kernels = {{"k1k2", 10000, "cpu", {1.0, 2.0, 3.0}, 1, ""},
+                                            {"k1k2", 10000, "vulkan", {1.0, 1.0, 1.0}, 1, ""}};
+  const std::string md = bench_markdown(hand_made_results(), kernels, backends, 3, Stage::refine, {"a note"},
+                                        {"fracref bench --repeat 3", 2});
+  const std::vector<std::string> lines = lines_of(md);
+  ASSERT_FALSE(lines.empty());
+  EXPECT_EQ(lines[0], "## CPU backend, 2 threads; lavapipe (llvmpipe (LLVM 15.0.6, 256 bits))") << md;
+  EXPECT_NE(md.find("`fracref bench --repeat 3`"), std::string::npos) << md;
+  EXPECT_NE(md.find("2 hardware threads"), std::string::npos) << md;
+  EXPECT_NE(md.find("Medians of 3 runs"), std::string::npos) << md;
+  EXPECT_NE(md.find("Stopped after refine."), std::string::npos) << md;
+
+  const std::vector<std::string> on_cpu = table_after(md, "### CPU backend, 2 threads");
+  ASSERT_EQ(on_cpu.size(), 4u) << md;  // header, alignment, wall, branch
+  EXPECT_EQ(on_cpu[0].rfind("| scene | triangles | final energy | stop |", 0), 0u) << on_cpu[0];
+  EXPECT_EQ(on_cpu[1].rfind("|---|---|---:|", 0), 0u) << on_cpu[1];
+  EXPECT_EQ(on_cpu[2].rfind("| wall | 204 → 1000 |", 0), 0u) << on_cpu[2];
+  EXPECT_EQ(on_cpu[3].rfind("| branch | 60 → 181 |", 0), 0u) << on_cpu[3];
+  for (const std::string& row : on_cpu) EXPECT_EQ(pipes(row), pipes(on_cpu[0])) << row;
+  EXPECT_EQ(pipes(on_cpu[0]), 16u);  // 15 columns: the text table's without the backend
+
+  const std::vector<std::string> on_vulkan = table_after(md, "### lavapipe (llvmpipe (LLVM 15.0.6, 256 bits))");
+  ASSERT_EQ(on_vulkan.size(), 4u) << md;
+  EXPECT_EQ(on_vulkan[2].rfind("| wall | 204 → 1012 |", 0), 0u) << on_vulkan[2];
+  EXPECT_EQ(on_vulkan[3].rfind("| branch | - |", 0), 0u) << on_vulkan[3];  // unavailable there
+
+  const std::vector<std::string> compared = table_after(md, "### Against the CPU backend");
+  ASSERT_EQ(compared.size(), 4u) << md;  // header, alignment, wall, branch
+  EXPECT_EQ(compared[2], "| wall | vulkan | 1.25x | 1.11x | +12 (+1.20%) | +0.50% |") << md;
+  EXPECT_EQ(compared[3], "| branch | vulkan | - | - | - | - |") << md;  // no vulkan figures
+
+  const std::vector<std::string> k = table_after(md, "### Kernels");
+  ASSERT_EQ(k.size(), 3u) << md;
+  EXPECT_EQ(k[0], "| kernel | size | cpu ms | vulkan ms | vulkan/cpu |");
+  EXPECT_EQ(k[2], "| k1k2 | 10000 | 2.00 | 1.00 | 0.500x |");
+
+  EXPECT_NE(md.find("\n- failed: branch on vulkan: unavailable: no driver\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("\n- a note\n"), std::string::npos) << md;
+}
+
+TEST(BenchReport, MarkdownSaysWhyABackendIsMissingAndEscapesCells) {
+  NamedBackend cpu("cpu");
+  std::vector<SceneBenchResult> results = {hand_made_results()[0]};
+  results[0].scene = "a|b";
+  const std::vector<BenchBackend> backends = {{"cpu", &cpu, "", 0.0, 2}, {"vulkan", nullptr, "no driver", 0.0, 0}};
+  const std::string md = bench_markdown(results, {}, backends, 1, Stage::animate, {}, {});
+  EXPECT_NE(md.find("### vulkan (unavailable)\n\nUnavailable: no driver\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("| a\\|b | 204 → 1000 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("Medians of 1 run,"), std::string::npos) << md;
+  EXPECT_EQ(md.find("Stopped after"), std::string::npos) << md;
+  EXPECT_EQ(md.find("### Kernels"), std::string::npos) << md;
+  EXPECT_EQ(md.find("### Against"), std::string::npos) << md;
 }

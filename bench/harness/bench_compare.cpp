@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "batch/bench.hpp"
+#include "harness/bench.hpp"
 
 namespace fracref {
 namespace {

@@ -1,4 +1,4 @@
-#include "pipeline/strength.hpp"
+#include "field/strength.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -95,7 +95,7 @@ Grid3 distance_grid(const Grid3& grid, const std::vector<glm::dvec3>& positions,
   return out;
 }
 
-Grid3 modified_field(const Grid3& zeta, const Grid3& distance, const WeightsSpec& w, double diagonal) {
+Grid3 modified_field(const Grid3& zeta, const Grid3& distance, const FieldWeights& w, double diagonal) {
   Grid3 psi = zeta;
   for (std::size_t i = 0; i < psi.values.size(); ++i)
     psi.values[i] = float(w.strength * zeta.values[i] + w.distance * distance.values[i] / diagonal + w.offset);

@@ -1,7 +1,7 @@
 // The scene half of `fracref bench`: whole jobs, interleaved over repeats, scenes and backends.
 #include <algorithm>
 
-#include "batch/bench.hpp"
+#include "harness/bench.hpp"
 #include "scene/scene.hpp"
 
 namespace fracref {

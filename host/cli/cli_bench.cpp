@@ -1,5 +1,6 @@
 // `fracref bench`: the paper's scenes and the kernels on the CPU and Vulkan backends, as tables
-// on stdout and, with --json, a file (src/batch/bench.hpp has what is measured and how).
+// on stdout and, with --json and --markdown, files (bench/harness/bench.hpp has what is measured
+// and how; the Markdown is the section docs/PERFORMANCE.md keeps per machine).
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -8,10 +9,12 @@
 #include <cstdlib>
 #include <iostream>
 #include <memory>
+#include <sstream>
+#include <thread>
 
-#include "batch/bench.hpp"
 #include "cli.hpp"
 #include "cli_progress.hpp"
+#include "harness/bench.hpp"
 #include "scenegen/scenegen.hpp"
 #include "util/atomic_output.hpp"
 #include "util/error.hpp"
@@ -28,12 +31,37 @@ struct BenchCliOptions {
   std::vector<std::string> threads;  ///< extra CPU rows: thread counts, or "all"
   int repeat = 3;
   std::string json;
+  std::string markdown;
   std::string stop_after = "animate";
   bool kernels_only = false;
   bool no_kernels = false;
   std::vector<std::size_t> kernel_sizes = {10'000, 100'000, 1'000'000};
   bool quiet = false;
 };
+
+/// The command line that reproduces the run (the options given or their defaults), for the
+/// Markdown report.
+std::string command_line(const BenchCliOptions& o) {
+  auto join = [](const auto& items) {
+    std::string s;
+    for (const auto& item : items) {
+      std::ostringstream one;
+      one << item;
+      s += (s.empty() ? "" : ",") + one.str();
+    }
+    return s;
+  };
+  std::vector<std::string> backends;  // as given: check_options() appends a "cpu:N" per --threads entry
+  for (const std::string& b : o.backends)
+    if (b.rfind("cpu:", 0) != 0) backends.push_back(b);
+  std::string c = "fracref bench --scenes " + join(o.scenes) + " --backends " + join(backends);
+  if (!o.threads.empty()) c += " --threads " + join(o.threads);
+  c += " --repeat " + std::to_string(o.repeat) + " --stop-after " + o.stop_after;
+  if (o.kernels_only) c += " --kernels-only";
+  if (o.no_kernels) c += " --no-kernels";
+  if (!o.no_kernels) c += " --kernel-sizes " + join(o.kernel_sizes);
+  return c;
+}
 
 /// A temporary folder removed with everything in it when the bench ends.
 struct ScratchDir {
@@ -172,6 +200,10 @@ int run_bench(BenchCliOptions o) {
   for (const std::string& n : notes) std::cout << "note: " << n << "\n";
   if (!o.json.empty())
     write_file_atomic(o.json, bench_json(scenes, kernels, backends, o.repeat, stop, notes).dump(2) + "\n");
+  if (!o.markdown.empty()) {
+    const BenchMarkdownContext context{command_line(o), std::thread::hardware_concurrency()};
+    write_file_atomic(o.markdown, bench_markdown(scenes, kernels, backends, o.repeat, stop, notes, context));
+  }
   return any_failure(scenes, kernels) ? kExitFailure : kExitOk;
 }
 
@@ -190,6 +222,8 @@ void add_bench_command(CLI::App& app, Action& action) {
       ->delimiter(',');
   sub->add_option("--repeat", o->repeat, "runs of each measurement (default 3)")->check(CLI::PositiveNumber);
   sub->add_option("--json", o->json, "also write the results as JSON to this file");
+  sub->add_option("--markdown", o->markdown,
+                  "also write the results as Markdown to this file: the section docs/PERFORMANCE.md keeps per machine");
   sub->add_option("--stop-after", o->stop_after, "last stage of the scene runs (default animate: the whole pipeline)")
       ->check(CLI::IsMember({"preprocess", "refine", "pieces", "animate"}));
   auto* only = sub->add_flag("--kernels-only", o->kernels_only, "skip the scenes");
