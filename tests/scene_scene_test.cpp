@@ -308,6 +308,25 @@ TEST(SceneErrors, OutOfRange) {
             "constant)");
 }
 
+// Absurd padding and blur widths are refused by the scene, naming the file and the key, not later
+// by the field or the pyramid without either.
+TEST(SceneErrors, PaddingAndSigmaOutOfRange) {
+  EXPECT_EQ(patched_error(R"({"field": {"padding": 1e308}})"),
+            "/jobs/bunny/scene.json: key 'field.padding': must be in [0, 1], got 1e+308");
+  EXPECT_EQ(patched_error(R"({"field": {"padding": -0.5}})"),
+            "/jobs/bunny/scene.json: key 'field.padding': must be in [0, 1], got -0.5");
+  EXPECT_EQ(patched_error(R"({"pyramid": {"sigma": 1e308}})"),
+            "/jobs/bunny/scene.json: key 'pyramid.sigma': must be in (0, 20], got 1e+308");
+  EXPECT_EQ(patched_error(R"({"pyramid": {"sigma": -1}})"),
+            "/jobs/bunny/scene.json: key 'pyramid.sigma': must be in (0, 20], got -1");
+  EXPECT_EQ(patched_error(R"({"pyramid": {"sigma": 0}})"),
+            "/jobs/bunny/scene.json: key 'pyramid.sigma': must be in (0, 20], got 0");
+  EXPECT_EQ(patched_error(R"({"pyramid": {"sigma": "NaN"}})"),
+            "/jobs/bunny/scene.json: key 'pyramid.sigma': expected a number, got string \"NaN\" (JSON numbers cannot "
+            "be NaN or infinite)");
+  EXPECT_EQ(parse_patched(R"({"field": {"padding": 1}, "pyramid": {"sigma": 20}})").pyramid.sigma, 20.0);
+}
+
 TEST(SceneErrors, BadChoices) {
   EXPECT_EQ(patched_error(R"({"field": {"type": "marbel"}})"),
             "/jobs/bunny/scene.json: key 'field.type': must be one of 'marble', 'wood', 'branch', 'brick', "

@@ -112,7 +112,8 @@ FieldSettings read_field(ObjectReader r, const fs::path& dir) {
     f.resolution = r.uvec3_required("resolution", res_range);
     r.forbid("file", "only allowed when type is 'grid'");
   }
-  f.padding = r.number("padding", 0.05, Range::at_least(0.0));
+  // A fraction of the diagonal: more than the exterior's own size on every side only wastes grid cells.
+  f.padding = r.number("padding", 0.05, Range::closed(0.0, 1.0));
   f.seed = std::uint64_t(r.integer("seed", 1, IntRange::at_least(0)));
   f.params = r.raw_object("params");
   r.finish();
@@ -135,7 +136,8 @@ WeightsSpec read_weights(ObjectReader r) {
 PyramidSpec read_pyramid(ObjectReader r) {
   PyramidSpec p;
   p.levels = int(r.integer("levels", p.levels, {1, 8}));
-  p.sigma = r.number("sigma", p.sigma, Range::greater_than(0.0));
+  // The blur's radius is ceil(3 sigma) cells and the pyramid allows at most kMaxBlurRadius (64).
+  p.sigma = r.number("sigma", p.sigma, Range{0.0, 20.0, true, false});
   r.finish();
   return p;
 }
