@@ -10,6 +10,7 @@
 
 #include "field/grid_file.hpp"
 #include "util/error.hpp"
+#include "util/input_size.hpp"
 
 using namespace fracref;
 namespace fs = std::filesystem;
@@ -126,6 +127,25 @@ TEST(GridFile, HeaderErrorsNameTheLine) {
 TEST(GridFile, NulByteIsAnErrorNotAHang) {
   EXPECT_EQ(error_of(std::string("fracref-grid 1\n\0\n", 17)), ":2: unknown key '\0' (dims, origin, cell, format, end_header)");
   EXPECT_NE(error_of(kHeader + std::string("1 2 \0 4\n", 9)), "");
+}
+
+// A grid file too large to read whole is refused by its size (a sparse file: no disk, no memory).
+TEST(GridFile, HugeFileIsRefusedBySize) {
+  Temp t;
+  const fs::path p = t.write("fracref-grid 1\n");
+  fs::resize_file(p, max_input_file_bytes() + 1);
+  try {
+    read_strength_grid(p);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(p.string() + ": the file is " + size_text(max_input_file_bytes() + 1), 0), 0u);
+  }
+}
+
+// Large dims over a short text do not reserve memory for every announced value.
+TEST(GridFile, LargeDimsWithFewTextValuesIsTooFewNotAnAllocation) {
+  EXPECT_EQ(error_of("fracref-grid 1\ndims 1024 1024 1024\norigin 0 0 0\ncell 1\nformat text\nend_header\n1 2 3\n"),
+            ":7: too few values: 3 of the 1073741824 that dims give");
 }
 
 TEST(GridFile, TextValueErrorsNameTheLine) {

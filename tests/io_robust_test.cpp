@@ -3,6 +3,7 @@
 // that breaks its own invariants.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,7 @@
 #include "io/mesh_io.hpp"
 #include "io/mesh_stats.hpp"
 #include "util/error.hpp"
+#include "util/input_size.hpp"
 
 namespace fs = std::filesystem;
 using namespace fracref;
@@ -135,4 +137,40 @@ TEST_F(RobustTest, MutatedAsciiPly) {
 TEST_F(RobustTest, MutatedBinaryPly) {
   write_mesh(dir_ / "base.ply", sample_soup());
   mutate_and_check("m.ply", slurp(dir_ / "base.ply"), 4, 250);
+}
+
+// A file larger than fracref reads whole is refused by its size before a byte is read (a 30 GB
+// OBJ ended in a bare std::bad_alloc). The file is sparse: it costs no disk and no memory.
+TEST_F(RobustTest, HugeFileIsRefusedBySizeBeforeReading) {
+  const std::uint64_t size = max_input_file_bytes() + 1;
+  for (const char* name : {"huge.obj", "huge.off", "huge.ply"}) {
+    SCOPED_TRACE(name);
+    const fs::path p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << "v 0 0 0\n";
+    fs::resize_file(p, size);
+    try {
+      read_mesh(p);
+      ADD_FAILURE() << "no InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), p.string() + ": the file is " + size_text(size) + ", more than the " +
+                                           size_text(max_input_file_bytes()) + " fracref reads whole on this machine (" +
+                                           size_text(physical_memory_bytes()) + " of memory)");
+    }
+    fs::remove(p);
+  }
+}
+
+TEST(InputSize, SizeText) {
+  EXPECT_EQ(size_text(0), "0 bytes");
+  EXPECT_EQ(size_text(1), "1 byte");
+  EXPECT_EQ(size_text(999), "999 bytes");
+  EXPECT_EQ(size_text(1500), "1.5 KB");
+  EXPECT_EQ(size_text(2'100'000'000), "2.1 GB");
+  EXPECT_EQ(size_text(30'000'000'000), "30.0 GB");
+}
+
+TEST(InputSize, LimitIsAQuarterOfTheMemoryAndAtLeast256MiB) {
+  const std::uint64_t memory = physical_memory_bytes();
+  ASSERT_GT(memory, 0u);
+  EXPECT_EQ(max_input_file_bytes(), std::max<std::uint64_t>(memory / 4, std::uint64_t(256) << 20));
 }

@@ -7,6 +7,7 @@
 
 #include "scene/json_strict.hpp"
 #include "scene/scene.hpp"
+#include "util/input_size.hpp"
 
 namespace fracref {
 namespace {
@@ -228,6 +229,13 @@ TEST_F(SceneFile, OverflowIsNamed) {
   const fs::path p = write("{\"exterior\": \"b.obj\",\n \"refine\": {\"tau\": 1e999}}");
   EXPECT_EQ(input_error([&] { load_scene(p); }),
             p.string() + ":2:20: key 'refine.tau': number overflow parsing '1e999' (too large for a double)");
+}
+
+// A scene file too large to read whole is refused by its size (a sparse file: no disk, no memory).
+TEST_F(SceneFile, HugeFileIsRefusedBySize) {
+  const fs::path p = write("{");
+  fs::resize_file(p, max_input_file_bytes() + 1);
+  EXPECT_EQ(input_error([&] { load_scene(p); }).rfind(p.string() + ": the file is " + size_text(max_input_file_bytes() + 1), 0), 0u);
 }
 
 TEST(SceneErrors, OutOfRangeMatchesTheDocumentedFormat) {

@@ -1,5 +1,6 @@
 #include "field/grid_file.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <charconv>
 #include <cmath>
@@ -16,6 +17,7 @@
 
 #include "util/atomic_output.hpp"
 #include "util/error.hpp"
+#include "util/input_size.hpp"
 
 namespace fracref {
 namespace {
@@ -25,6 +27,7 @@ constexpr unsigned kMaxDim = 1024;
 std::string read_bytes(const std::filesystem::path& file) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) throw InputError(file.string() + ": cannot read the strength grid file (missing or not a file)");
+  check_input_file_size(file, std::filesystem::file_size(file, ec));
   std::ifstream in(file, std::ios::binary);
   std::ostringstream ss;
   ss << in.rdbuf();
@@ -144,7 +147,9 @@ void read_binary(const std::string& f, std::string_view data, std::size_t offset
 }
 
 void read_text(const std::string& f, std::string_view text, std::size_t pos, std::size_t line_no, Grid3& g) {
-  g.values.reserve(g.size());
+  // At most one value per two bytes left: a header announcing 1024^3 values over a few bytes of
+  // text must not reserve 4 GB.
+  g.values.reserve(std::min(g.size(), (text.size() - pos) / 2 + 1));
   std::string_view line;
   while (next_line(text, pos, line)) {
     ++line_no;

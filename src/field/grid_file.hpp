@@ -21,7 +21,7 @@ namespace fracref {
 ///        repeated or missing key, dims outside [2, 1024], non-positive or non-finite cell or
 ///        origin, unknown format, a bad number, a NaN/inf value, too few or too many values), and
 ///        "<file>: byte <offset>: ..." for binary data (truncated, trailing bytes, NaN/inf value);
-///        "<file>: ..." when the file cannot be read.
+///        "<file>: ..." when the file cannot be read or is larger than max_input_file_bytes().
 Grid3 read_strength_grid(const std::filesystem::path& file);
 
 /// read_strength_grid(), then checks the grid against the scene: it must cover the box

@@ -11,6 +11,7 @@
 #include <system_error>
 
 #include "io/polygon_triangulation.hpp"
+#include "util/input_size.hpp"
 
 namespace fracref::io_detail {
 namespace fs = std::filesystem;
@@ -21,6 +22,7 @@ std::string read_whole_file(const fs::path& path) {
   auto status = fs::status(path, ec);
   if (ec || !fs::exists(status)) throw InputError(name + ": cannot open: no such file");
   if (fs::is_directory(status)) throw InputError(name + ": cannot open: it is a directory");
+  if (fs::is_regular_file(status)) check_input_file_size(path, fs::file_size(path, ec));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(name + ": cannot open for reading: " + std::strerror(errno));
   std::string text;

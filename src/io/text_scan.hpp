@@ -14,7 +14,8 @@
 namespace fracref::io_detail {
 
 /// The bytes of `path`.
-/// \throw InputError "<file>: ..." when the file is missing, a folder, unreadable or empty.
+/// \throw InputError "<file>: ..." when the file is missing, a folder, unreadable or empty, or
+///        larger than max_input_file_bytes() (checked before reading).
 std::string read_whole_file(const std::filesystem::path& path);
 
 /// `text` without a leading UTF-8 byte order mark (some Windows tools write one into OBJ/OFF).

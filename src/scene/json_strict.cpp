@@ -9,6 +9,8 @@
 #include <set>
 #include <utility>
 
+#include "util/input_size.hpp"
+
 namespace fracref {
 namespace {
 
@@ -174,6 +176,7 @@ nlohmann::json read_json_file(const std::filesystem::path& path) {
   const fs::file_status st = fs::status(path, ec);
   if (!fs::exists(st)) throw InputError(name + ": file not found");
   if (fs::is_directory(st)) throw InputError(name + ": is a folder, expected a JSON file");
+  if (fs::is_regular_file(st)) check_input_file_size(path, fs::file_size(path, ec));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(name + ": cannot open: " + std::strerror(errno));
   std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};

@@ -31,7 +31,8 @@ namespace fracref {
 nlohmann::json parse_json_strict(const std::string& text, const std::string& filename);
 
 /// Reads and parses a whole file with parse_json_strict; messages name `path` as given.
-/// \throw InputError when the file is missing, a folder, or unreadable, or its JSON is bad.
+/// \throw InputError when the file is missing, a folder, unreadable, larger than
+///        max_input_file_bytes() (checked before reading), or its JSON is bad.
 nlohmann::json read_json_file(const std::filesystem::path& path);
 
 /// An interval of allowed real values; open or closed at each end. The default allows every
