@@ -165,6 +165,12 @@ TEST(CoarseAnimationErrors, RigidTransforms) {
   EXPECT_EQ(run("0 0 " + id + "\n0 1 " + id + "\n1 0 " + id + "\n"),
             ": frame 1 has no transform for piece 1 (frames run from 0 to 1, every piece in every frame)");
   EXPECT_EQ(run("0 0 " + id + "\n0 0 " + id + "\n"), ":2: frame 0 piece 0 is already given on line 1");
+  EXPECT_EQ(run("1 0 " + id + "\n0 0 " + id + "\n0 0 " + id + "\n1 0 " + id + "\n"),
+            ":3: frame 0 piece 0 is already given on line 2");
+  // One line with a far frame number names the first missing pair without a table of 1e8 frames
+  // (it took gigabytes).
+  EXPECT_EQ(run("100000000 0 " + id + "\n"),
+            ": frame 0 has no transform for piece 0 (frames run from 0 to 100000000, every piece in every frame)");
   EXPECT_EQ(run("0 2 " + id + "\n"), ":1: piece 2 is out of range (the model has 2 pieces)");
   EXPECT_EQ(run("0 0 2 0 0 0  0 2 0 0  0 0 2 0\n"),
             ":1: the 3x3 part is not a rotation (R^T R differs from the identity by 3.000000; scaling and shear are not rigid)");

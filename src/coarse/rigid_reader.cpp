@@ -52,24 +52,47 @@ std::vector<Transform> read_transforms(const fs::path& path, int pieces) {
   return out;
 }
 
-// Per (frame, piece) the transform, after checking each pair appears exactly once.
+bool transform_less(const Transform* a, const Transform* b) {
+  return std::tie(a->frame, a->piece, a->line) < std::tie(b->frame, b->piece, b->line);
+}
+
+bool same_key(const Transform* a, const Transform* b) { return a->frame == b->frame && a->piece == b->piece; }
+
+// The repeated pair on the earliest line, in `sorted` (by key, then line): the error names it and
+// the line that first gave the pair.
+void check_repeats(const std::vector<const Transform*>& sorted, const fs::path& path) {
+  const Transform* repeat = nullptr;
+  const Transform* first = nullptr;
+  for (std::size_t i = 1, group = 0; i < sorted.size(); ++i) {
+    if (!same_key(sorted[i], sorted[i - 1])) group = i;
+    else if (!repeat || sorted[i]->line < repeat->line) repeat = sorted[i], first = sorted[group];
+  }
+  if (repeat)
+    throw input_error_at(path.string(), repeat->line, "frame " + std::to_string(repeat->frame) + " piece " +
+                                                          std::to_string(repeat->piece) + " is already given on line " +
+                                                          std::to_string(first->line));
+}
+
+// Per (frame, piece) the transform, after checking each pair appears exactly once. The missing
+// pair is found on the sorted list before the table is made: a frame number up to 1e8 on one
+// line must not allocate a table for 1e8 frames.
 std::vector<std::vector<const Transform*>> arrange(const std::vector<Transform>& list, int pieces, const fs::path& path) {
   std::int64_t frames = 0;
   for (const Transform& t : list) frames = std::max(frames, t.frame + 1);
   if (frames == 0) throw InputError(path.string() + ": no transform given");
-  std::vector<std::vector<const Transform*>> grid(std::size_t(frames), std::vector<const Transform*>(pieces, nullptr));
-  for (const Transform& t : list) {
-    const Transform*& slot = grid[std::size_t(t.frame)][t.piece];
-    if (slot)
-      throw input_error_at(path.string(), t.line, "frame " + std::to_string(t.frame) + " piece " + std::to_string(t.piece) +
-                                                      " is already given on line " + std::to_string(slot->line));
-    slot = &t;
+  std::vector<const Transform*> sorted;
+  for (const Transform& t : list) sorted.push_back(&t);
+  std::sort(sorted.begin(), sorted.end(), transform_less);
+  check_repeats(sorted, path);
+  for (std::size_t k = 0;; ++k) {  // pair k is (k / pieces, k % pieces); `sorted` now has no repeat
+    if (k < sorted.size() && std::size_t(sorted[k]->frame) * pieces + std::size_t(sorted[k]->piece) == k) continue;
+    if (k == std::size_t(frames) * pieces) break;
+    throw InputError(path.string() + ": frame " + std::to_string(k / pieces) + " has no transform for piece " +
+                     std::to_string(k % pieces) + " (frames run from 0 to " + std::to_string(frames - 1) +
+                     ", every piece in every frame)");
   }
-  for (std::size_t f = 0; f < grid.size(); ++f)
-    for (int p = 0; p < pieces; ++p)
-      if (!grid[f][p])
-        throw InputError(path.string() + ": frame " + std::to_string(f) + " has no transform for piece " + std::to_string(p) +
-                         " (frames run from 0 to " + std::to_string(frames - 1) + ", every piece in every frame)");
+  std::vector<std::vector<const Transform*>> grid(std::size_t(frames), std::vector<const Transform*>(pieces, nullptr));
+  for (const Transform* t : sorted) grid[std::size_t(t->frame)][t->piece] = t;
   return grid;
 }
 
