@@ -2,6 +2,7 @@
 
 #include <set>
 
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -19,25 +20,63 @@
 namespace fracref {
 namespace fs = std::filesystem;
 
+fs::path user_path(const fs::path& path) {
+  const std::string suffix = ".tmp-" + std::to_string(::getpid());
+  fs::path out;
+  for (const fs::path& part : path) {
+    const std::string name = part.string();
+    const bool staged = name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+    out /= staged ? name.substr(0, name.size() - suffix.size()) : name;
+  }
+  return out;
+}
+
+std::string user_text(std::string text) {
+  const std::string suffix = ".tmp-" + std::to_string(::getpid());
+  for (std::size_t at = text.find(suffix); at != std::string::npos; at = text.find(suffix, at)) {
+    const std::size_t end = at + suffix.size();
+    if (end < text.size() && text[end] >= '0' && text[end] <= '9') at = end;
+    else text.erase(at, suffix.size());
+  }
+  return text;
+}
+
+namespace {
+
+// POSIX calls rather than a stream: errno then says why a write failed (ENOSPC, EDQUOT, EIO).
+// Returns 0, or the errno of the first failure.
+int write_all(const fs::path& file, const std::string& bytes) {
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) return errno;
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int err = n < 0 ? errno : EIO;
+      ::close(fd);
+      return err;
+    }
+    done += std::size_t(n);
+  }
+  return ::close(fd) == 0 ? 0 : errno;
+}
+
+}  // namespace
+
 void write_file_atomic(const fs::path& path, const std::string& bytes) {
   fs::path tmp = path;
   tmp += ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw RunError(path.string() + ": cannot open for writing");
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw RunError(path.string() + ": write failed (disk full?)");
-    }
-  }
   std::error_code ec;
+  if (const int err = write_all(tmp, bytes)) {
+    fs::remove(tmp, ec);
+    throw RunError("cannot write " + user_path(path).string() + ": " + std::strerror(err));
+  }
   fs::rename(tmp, path, ec);
   if (ec) {
     fs::remove(tmp, ec);
-    throw RunError(path.string() + ": cannot rename temporary file into place: " + ec.message());
+    throw RunError("cannot write " + user_path(path).string() + ": cannot rename the temporary file into place: " +
+                   ec.message());
   }
 }
 

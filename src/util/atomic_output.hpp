@@ -6,8 +6,19 @@
 namespace fracref {
 
 /// Writes `bytes` to `path` through a temporary file in the same folder and a rename.
-/// \throw RunError when the file cannot be written or renamed.
+/// \throw RunError "cannot write <file>: <cause>" (e.g. "No space left on device") when the file
+///        cannot be written or renamed; <file> is user_path(path), the name the user asked for.
 void write_file_atomic(const std::filesystem::path& path, const std::string& bytes);
+
+/// `path` as the user knows it: every component "<name>.tmp-<this process's id>" (a staging
+/// folder of StagedDirectory, or write_file_atomic's temporary file) becomes "<name>", so that
+/// messages name the output asked for (-o OUT), e.g. "OUT/fracture_surface.ply", not where it
+/// is staged ("OUT.tmp-4242/fracture_surface.ply"). Other paths are returned unchanged.
+std::filesystem::path user_path(const std::filesystem::path& path);
+
+/// `text` (a message) with every ".tmp-<this process's id>" not followed by a digit removed: the
+/// user_path() of the paths quoted in messages fracref did not build itself (std::filesystem's).
+std::string user_text(std::string text);
 
 /// The file every output folder of fracref carries: the names of the entries fracref wrote there,
 /// one a line. An existing folder is replaced only when it holds this file and nothing else.
