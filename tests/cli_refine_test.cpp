@@ -288,3 +288,38 @@ TEST(CliRefine, FieldTooLargeForTheMachineIsRefusedUpFront) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("big.json: key 'field.resolution': [1024, 1024, 1024] needs about 68.7 GB"), std::string::npos) << r.err;
 }
+
+// An input file larger than fracref reads whole is refused by its size, naming it, before a byte
+// is read (a 30 GB OBJ ended in a bare std::bad_alloc). The file is sparse: no disk, no memory.
+TEST(CliRefine, HugeInputFileIsRefusedBySize) {
+  TempDir t;
+  const fs::path huge = t.write("cube.obj", kCube);
+  const std::uint64_t memory = std::uint64_t(sysconf(_SC_PHYS_PAGES)) * std::uint64_t(sysconf(_SC_PAGESIZE));
+  fs::resize_file(huge, std::max<std::uint64_t>(memory, std::uint64_t(1) << 30));
+  t.write("cube.mesh", cube_mesh(2));
+  const auto s = t.write("scene.json", scene(""));
+  const auto r = run("refine " + s.string() + " -o " + (t.path / "out").string() + " --backend cpu -q");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(r.err.rfind("fracref: " + huge.string() + ": the file is ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find(" fracref reads whole on this machine ("), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(t.path / "out"));
+}
+
+// Out of memory is one clear line and exit 1, never a bare "std::bad_alloc": the run is given
+// less address space (ulimit -v) than its field needs.
+TEST(CliRefine, OutOfMemoryIsOneClearMessage) {
+  TempDir t;
+  t.write("cube.obj", kCube);
+  t.write("cube.mesh", cube_mesh(2));
+  const auto s = t.write("scene.json", R"({"exterior": "cube.obj", "fracture": {"kind": "tets", "mesh": "cube.mesh"},
+                                           "field": {"type": "marble", "resolution": [1024, 1024, 64]}})");
+  const auto r = run("refine " + s.string() + " -o " + (t.path / "out").string() + " --backend cpu -q",
+                     "ulimit -v 3000000; MALLOC_ARENA_MAX=2");
+  if (r.err.find("AddressSanitizer") != std::string::npos) GTEST_SKIP() << "ASan cannot run under ulimit -v";
+  if (r.code == 2 && r.err.find("needs about") != std::string::npos) GTEST_SKIP() << "the machine is too small: " << r.err;
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_EQ(r.err.rfind("fracref: out of memory", 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(r.err.find("std::bad_alloc"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(t.path / "out"));
+}

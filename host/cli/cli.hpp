@@ -35,4 +35,10 @@ bool stderr_is_terminal();
 /// `data` beside the executable.
 std::filesystem::path data_dir();
 
+/// Records what the CLI is doing ("reading the scene file", "the refine stage"), for the one
+/// message main() prints when memory runs out. Thread-safe.
+void set_activity(std::string what);
+/// The last activity set; empty before the first.
+std::string activity();
+
 }  // namespace fracref::cli

@@ -33,10 +33,15 @@ int run_scene(const Scene& scene, const JobCliOptions& o, const fs::path* extra_
   std::unique_ptr<ComputeBackend> backend = make_backend(o.backend, o.quiet);
   StagedDirectory out(o.output);
   ProgressLine line(!o.quiet && stderr_is_terminal());
-  jo.progress = [&](const std::string& stage, double f, const std::string& d) { line.update(stage, f, d); };
+  std::string current_stage;
+  jo.progress = [&](const std::string& stage, double f, const std::string& d) {
+    if (stage != current_stage) set_activity("running the " + (current_stage = stage) + " stage");
+    line.update(stage, f, d);
+  };
   nlohmann::ordered_json report = run_job(scene, out.path(), *backend, jo);
   line.done();
   if (extra_input) fs::rename(*extra_input, out.path() / "input");
+  set_activity("writing " + o.output);
   out.commit();
   if (!o.quiet) {
     std::cerr << "fracref: " << scene.name << ": ";
@@ -84,6 +89,7 @@ Scene load_with_overrides(const fs::path& file, const std::vector<std::string>& 
 }  // namespace
 
 int run_refine(const JobCliOptions& o) {
+  set_activity("reading the scene file " + o.scene);
   Scene scene = load_with_overrides(o.scene, o.sets, false);
   return run_scene(scene, o, nullptr);
 }

@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <mutex>
 
 #include "cli.hpp"
 #include "util/error.hpp"
@@ -23,6 +24,21 @@ std::filesystem::path data_dir() {
   std::error_code ec;
   std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   return (ec ? std::filesystem::current_path() : exe.parent_path()) / "data";
+}
+
+namespace {
+std::mutex g_activity_mutex;
+std::string g_activity;
+}  // namespace
+
+void set_activity(std::string what) {
+  std::lock_guard<std::mutex> lock(g_activity_mutex);
+  g_activity = std::move(what);
+}
+
+std::string activity() {
+  std::lock_guard<std::mutex> lock(g_activity_mutex);
+  return g_activity;
 }
 
 namespace {
