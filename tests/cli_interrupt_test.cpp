@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <map>
 #include <thread>
 
 #include "cli_support.hpp"
@@ -36,6 +37,39 @@ int interrupted_run(const fs::path& out, int sig) {
   int status = 0;
   waitpid(child, &status, 0);
   return status;
+}
+
+// Starts `fracref refine SCENE -o OUT` (made slow by a fine tau), waits until it has written a
+// file of its own output (the staging folder holds coarse_surface.ply), sends `sig`, and returns
+// the exit status.
+int interrupted_while_writing(const fs::path& scene, const fs::path& out, int sig) {
+  const pid_t child = fork();
+  if (child == 0) {
+    execl(FRACREF_EXE, FRACREF_EXE, "refine", scene.c_str(), "-o", out.c_str(), "--backend", "cpu", "-q", "--set",
+          "refine.tau=1e-9", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const fs::path written = out.string() + ".tmp-" + std::to_string(child) + "/coarse_surface.ply";
+  for (int i = 0; i < 1200 && !fs::exists(written); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  kill(child, sig);
+  int status = 0;
+  waitpid(child, &status, 0);
+  return status;
+}
+
+// Every file under `dir` by relative path, with its bytes.
+std::map<std::string, std::string> tree(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) files[fs::relative(e.path(), dir).string()] = slurp(e.path());
+  return files;
+}
+
+// The scene file of a demo's output (OUT/input/NAME.json).
+fs::path demo_scene_file(const fs::path& input) {
+  for (const auto& e : fs::directory_iterator(input))
+    if (e.path().extension() == ".json") return e.path();
+  return {};
 }
 
 std::vector<std::string> entries(const fs::path& dir) {
@@ -73,4 +107,33 @@ TEST(CliInterrupt, AfterSigkillTheNextRunRemovesTheStagingFolders) {
   EXPECT_EQ(slurp(out / "report.json"), before);
   ASSERT_EQ(run("demo branch -o " + out.string() + " --backend cpu -q --stop-after preprocess").code, 0);
   EXPECT_EQ(entries(t.path), std::vector<std::string>{"out"});
+}
+
+// A refine into an existing output folder, interrupted after it has started writing the new
+// output: the previous output stays whole, file for file, and no staging folder is left (after
+// the next run, for SIGKILL, which nothing can catch).
+TEST(CliInterrupt, InterruptedWhileWritingKeepsEveryFileOfThePreviousOutput) {
+  TempDir t;
+  const fs::path out = t.path / "out";
+  ASSERT_EQ(run("demo wall -o " + out.string() + " --backend cpu -q --stop-after preprocess").code, 0);
+  fs::copy(out / "input", t.path / "scene", fs::copy_options::recursive);
+  const fs::path scene = demo_scene_file(t.path / "scene");
+  ASSERT_FALSE(scene.empty());
+  const auto before = tree(out);
+  ASSERT_GT(before.size(), 2u);
+  for (int sig : {SIGINT, SIGKILL}) {
+    SCOPED_TRACE(sig);
+    const int status = interrupted_while_writing(scene, out, sig);
+    if (sig == SIGKILL) {
+      ASSERT_TRUE(WIFSIGNALED(status));
+    } else {
+      ASSERT_TRUE(WIFEXITED(status));
+      EXPECT_EQ(WEXITSTATUS(status), 128 + sig);
+      EXPECT_EQ(entries(t.path), (std::vector<std::string>{"out", "scene"}));
+    }
+    EXPECT_EQ(tree(out), before);
+  }
+  ASSERT_EQ(run("refine " + scene.string() + " -o " + out.string() + " --backend cpu -q --stop-after preprocess").code, 0);
+  EXPECT_EQ(entries(t.path), (std::vector<std::string>{"out", "scene"}));
+  EXPECT_TRUE(fs::exists(out / "coarse_surface.ply"));
 }
