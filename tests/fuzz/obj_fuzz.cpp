@@ -1,0 +1,9 @@
+// libFuzzer harness: the strict OBJ reader on arbitrary bytes.
+#include "fuzz/fuzz_support.hpp"
+#include "io/mesh_io.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace fracref;
+  const auto path = fuzz::scratch_file("input.obj", fuzz::as_text(data, size));
+  return fuzz::run_reader([&] { read_obj(path); });
+}
