@@ -1,5 +1,5 @@
 #pragma once
-// The compute backend interface (DESIGN.md, Backends): the three kernels the design card puts
+// The compute backend interface (docs/DESIGN.md, Backends): the three kernels the design card puts
 // on the GPU, with one CPU implementation here and a Vulkan one in host/. Both have the same
 // semantics; the refiner only talks to this interface.
 #include <memory>

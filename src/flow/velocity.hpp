@@ -3,7 +3,7 @@
 // kernels K1 (sample ψ and ∇ψ at every vertex) and K2 (gather each vertex's velocity over the
 // faces incident to it). shaders/flow_*.comp are their GLSL twins, with the same arithmetic.
 //
-// Derivation (DESIGN.md, "The velocity"). The discrete energy is E(S) = Σ_j A_j ψ̄_j, with A_j
+// Derivation (docs/DESIGN.md, "The velocity"). The discrete energy is E(S) = Σ_j A_j ψ̄_j, with A_j
 // the area of face j and ψ̄_j the mean of ψ at its three corners. For face j = (i, a, b) taken in
 // its own orientation, with unit normal n̂_j:
 //     ∂A_j/∂x_i = ½ n̂_j × (x_b − x_a),    ∂ψ̄_j/∂x_i = ⅓ ∇ψ(x_i),

@@ -1,6 +1,6 @@
 #pragma once
 // Watertight high-resolution pieces (paper section 5, "Exterior surface generation";
-// DESIGN.md pipeline step 5): the exterior B is cut along the boundary of the refined fracture
+// docs/DESIGN.md, pipeline step 5): the exterior B is cut along the boundary of the refined fracture
 // surface S, split into patches, and every patch is merged with the faces of S that bound the
 // same piece, giving one closed, edge-manifold, outward mesh per piece. Neighbouring pieces
 // share their fracture vertices exactly (same index in one shared position array).

@@ -89,9 +89,8 @@ bool contract_all(FractureSurface& s, std::vector<std::uint32_t>& origin,
 }
 
 // As many of the contractions (of edges whose neighbourhoods do not touch) as can be made: all at
-// once, or else each half of them so, recursively. One at a time, a batch of a hundred with one
-// refused contraction in it cost a hundred rebuilds of S (the branch, seed 2: 6 s); halving costs
-// about 2 log2 of it. Returns how many were made.
+// once, or else each half of them so, recursively. One at a time, a batch of n with one refused
+// contraction in it would cost n rebuilds of S; halving costs about 2 log2 n. Returns how many were made.
 std::uint32_t contract_halving(FractureSurface& s, std::vector<std::uint32_t>& origin,
                                const std::vector<std::pair<std::uint32_t, std::uint32_t>>& batch) {
   if (batch.empty()) return 0;

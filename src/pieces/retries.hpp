@@ -20,8 +20,8 @@ inline constexpr double kPushFactor = 1.25;
 /// At most this many push rounds; then a poking vertex is contracted instead.
 inline constexpr std::size_t kMaxPushRounds = 8;
 /// A push that did not take a vertex's poke at least this much shallower will not: the poke is
-/// not this vertex's to fix by moving (on the bunny such pokes grew with every push, for 6 rounds
-/// of rebuilds until kMaxPushRounds), so the vertex is contracted at once instead.
+/// not this vertex's to fix by moving (such pokes can grow with every push, for rounds of
+/// rebuilds until kMaxPushRounds), so the vertex is contracted at once instead.
 inline constexpr double kFutilePush = 0.75;
 /// A folded vertex is relaxed this much further toward its neighbours' centroid per attempt.
 inline constexpr double kRelaxStep = 0.25;

@@ -35,8 +35,8 @@ namespace {
 
 // A query still undecided after this many boxes counts as a collision (conservative: its
 // vertices are held). Such queries are pairs resting within a few tolerances of each other
-// along a whole patch, where bisection needs ~(size/gap)² boxes: on the bunny demo 0.1% of the
-// queries took 90% of the solver's boxes (up to 300K each), and almost all of them were held anyway.
+// along a whole patch, where bisection needs ~(size/gap)² boxes: a few such queries would take
+// most of the solver's time, and almost all of them end held anyway.
 constexpr int kCcdBoxBudget = 4096;
 
 // An interior vertex that ends closer to B than it travelled may have crossed it: only those
@@ -89,7 +89,7 @@ std::vector<glm::dvec3> to_double(const std::vector<glm::vec4>& x) {
 // acute triangle, half the longest edge for another), so every point of a face stays at least
 // (smallest corner clearance − longest edge / √3 − largest corner travel) away from B; faces with
 // a positive bound cannot meet it and are left out of the (costly) test. The bound with the whole
-// longest edge kept 17% more of the clay's faces.
+// longest edge would keep more faces in it.
 std::vector<std::array<std::uint32_t, 3>> faces_near_exterior(const std::vector<std::array<std::uint32_t, 3>>& tris,
                                                               const std::vector<glm::vec4>& x0,
                                                               const std::vector<glm::vec4>& x1,
@@ -121,8 +121,8 @@ std::vector<std::array<std::uint32_t, 3>> faces_near_exterior(const std::vector<
 // virtual vertices, appended after the real ones, each a fixed barycentric combination of the
 // face's corners (so they move linearly with them). Only a strip of that width along the rim
 // goes untested. A rim face none of whose corners moves takes part in no pair (S–B pairs need a
-// moving element, and the rounds below only ever hold vertices back), so it is left out: testing
-// every rim face for crossing B at each step cost the bunny a twentieth of its refinement.
+// moving element, and the rounds below only ever hold vertices back), so it is left out rather
+// than tested for crossing B at every step.
 
 struct RimFaces {
   std::vector<std::array<std::uint32_t, 3>> triangles;  // virtual ids for the B corners

@@ -346,8 +346,8 @@ namespace {
 
 // One pass of split_rim_chords; the chords' midpoints are inside B, so the new vertices are
 // interior and between passes the edge table is all that must be rebuilt. The chords and their
-// new vertices are found first, so that the FaceGuard indexes only the faces near them (a few
-// thousand of the bunny's 173K: the tree over all of them was most of a pass).
+// new vertices are found first, so that the FaceGuard indexes only the faces near them, a small
+// part of S (a tree over all of S would be most of a pass).
 std::size_t split_rim_chords_once(FractureSurface& s, RefinementTree& tree, const ExteriorSurface& b, const TuckOptions& o,
                                   std::vector<std::uint32_t>& origin) {
   struct Chord {

@@ -17,8 +17,8 @@ namespace fracref {
 
 namespace {
 
-// Leaves of 8, as the CCD's trees: the check after the pass is mostly box traversal (half the
-// faces of the bunny's final surface against all of them, 4.9M overlapping pairs: 170 -> 155 ms).
+// Leaves of 8, as the CCD's trees: the check after the pass is mostly box traversal, which
+// smaller leaves shorten.
 constexpr std::uint32_t kFlipTreeLeaf = 8;
 
 struct Quad {
@@ -120,14 +120,12 @@ std::vector<FlipCandidate> candidate_flips(const FractureSurface& s, std::span<c
 
 // Each flip's new faces lie in the tetrahedron of its quad: a face that its QuadPrism separates
 // from the quad meets neither of them, and needs no exact test (most of the pairs met in the
-// check below: a twentieth of the wall's instructions, though little of its time, which goes to
-// the traversal).
+// check below).
 //
 // The check works flip by flip: one box per flip (its quad's, the union of its two new faces'
 // boxes) met with a tree over the other faces of S, one prism test per flip and face, then the
 // exact test of each new face whose own box meets the face's. Face by face (a tree over the new
-// faces) met 3.4M box pairs on the wall's last pass where this meets 1.8M, and ran each prism
-// test twice. What a pair reads is gathered per tree slot (number_items_in_leaf_order): read
+// faces) would meet more box pairs and run each prism test twice. What a pair reads is gathered per tree slot (number_items_in_leaf_order): read
 // through face ids, each pair cost a few cache misses, more than its tests.
 class FlipCheck {
  public:
@@ -143,7 +141,7 @@ class FlipCheck {
       if (!flipped[f]) others.push_back(f);
     build_trees(boxes, flip_faces, others);
     flips_.resize(flip_ids_.size());
-    // Small chunks: a slot's prism costs ~0.6 us, and a step makes a few thousand flips.
+    // Small chunks: a slot's prism test is cheap, and a step makes few flips compared with faces.
     parallel_chunks(flips_.size(), chunk_count(flips_.size(), 256), threads, [&](std::size_t, std::size_t begin, std::size_t end) {
       for (std::size_t k = begin; k < end; ++k) flips_[k] = flip_slot(boxes, flip_faces[flip_ids_[k]], quads[flip_ids_[k]]);
     });
@@ -312,9 +310,9 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
   // sheet of S. One pass of the new faces against all of S finds that; the later of two flips
   // whose faces meet, and a flip whose faces meet any other face, is undone, and the faces it
   // restores are checked in turn against the flips still made (they were S's, so they can meet
-  // only those; a tree over all of S for them cost the wall 30 ms or more per late pass).
-  // Checking each candidate's quad before its flip tested ~60 faces against both new faces for
-  // each of ~30K candidates and refused none on the bunny: a quarter of its refinement time.
+  // only those, so no tree over all of S is needed for them).
+  // Checking each candidate's quad before its flip would test every nearby face against both new
+  // faces of every candidate, almost all of which are accepted.
   struct Made {
     std::uint32_t faces[2];
     glm::uvec4 old[2];
@@ -323,7 +321,7 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
   std::vector<std::int32_t> owner(s.faces.size(), -1);  // face -> index in `made` while flipped
   std::vector<char> used(s.faces.size(), 0);
   // Edges this pass made (the adjacency is stale), as (smaller id << 32 | larger id): a hash set,
-  // as only membership is asked (an ordered set of pairs took a tenth of the pass's serial time).
+  // as only membership is asked.
   KeySet created(candidates.size());  // keys are never 0: a diagonal joins two distinct vertices
   for (const FlipCandidate& c : candidates) {
     const auto [lo, hi] = std::minmax(c.opposite.x, c.opposite.y);

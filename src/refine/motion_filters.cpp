@@ -36,9 +36,8 @@ glm::dmat3 off_line(const glm::dvec3& u) { return glm::dmat3(1.0) - glm::outerPr
 
 // The motions the flow allows each vertex (the implicit step's filter). A vertex inside a sheet
 // moves freely: a sheet whose rim moves can only shrink if its vertices follow along it (held to
-// their normals, the bunny's finely sampled E fell by 16% instead of 33%). A vertex on B stays
-// unless options.rim_motion: the pieces stage cannot yet cut B along a rim that wandered (its
-// traces crossed on the bunny). With rim_motion a vertex on B slides on B across its rim curve
+// their normals, a sheet lowers E far less). A vertex on B stays unless options.rim_motion: the
+// pieces stage cannot yet cut B along a rim that wandered (its traces cross). With rim_motion a vertex on B slides on B across its rim curve
 // (along the curve it would bunch the rim into slivers that no flip can repair, as boundary edges
 // are special); one where the rim is not a simple curve slides on B freely. A junction vertex
 // moves across its junction curve.

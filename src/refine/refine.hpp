@@ -19,7 +19,7 @@ struct RefineOptions {
   double delta = 0.004;         ///< discard samples closer than delta·scale to a vertex
   /// Samples on S's rim (its edges on B) closer than max(delta, rim_delta)·scale to a vertex are
   /// discarded: the pieces stage traces each rim edge across B, and rim edges much shorter than
-  /// B's own made its traces cross (bunny, rim edges ~1e-5 of the diagonal).
+  /// B's own make its traces cross.
   double rim_delta = 0.001;
   /// The flow step's length: at the field's typical gradient (the root mean square of |∇ψ| over its
   /// nodes) a vertex is driven step·scale per iteration; 0 = the default (refine.cpp). The step is
