@@ -167,6 +167,14 @@ TEST(CliRefine, DemoWallRefinesIntoAValidSurface) {
   EXPECT_TRUE(fs::exists(t.path / "wall" / "input" / "wall.json"));
 }
 
+TEST(CliRefine, DemoWallSeedFourBuildsValidPieces) {
+  // Issue 33: this seed once ended in "side component 1 holds pieces 0 and 7" (an internal error).
+  TempDir t;
+  auto r = run("demo wall -o " + (t.path / "wall").string() + " --seed 4 --backend cpu --stop-after pieces -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(slurp(t.path / "wall" / "report.json").find("\"pieces_ok\": true"), std::string::npos);
+}
+
 TEST(CliRefine, SetOverridesSceneKeysAndTheDemoInputRecordsThem) {
   TempDir t;
   const fs::path out = t.path / "branch";
