@@ -16,7 +16,7 @@ std::unique_ptr<ComputeBackend> choose_automatically(bool quiet) {
     if (type == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU || type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU) return vk;
     if (!quiet)
       std::cerr << "fracref: backend auto -> cpu (" << backend->name()
-                << " is a CPU device; the bench measures it at or below two CPU threads)\n";
+                << " is a CPU device: the CPU backend does the same work without Vulkan)\n";
   } catch (const RunError& e) {
     if (!quiet) std::cerr << "fracref: backend auto -> cpu (" << e.what() << ")\n";
   }
