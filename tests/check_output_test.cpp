@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "animate/piece_surface.hpp"
 #include "check/check_output.hpp"
 #include "geom/shapes.hpp"
 #include "io/mesh_io.hpp"
@@ -184,6 +185,7 @@ class CheckOutput : public ::testing::Test {
     const MeshSoup exterior = to_soup(make_box({0, 0, 0}, {2, 1, 1}, 2));
     set_ = build_pieces(sheet(), exterior);
     write_pieces(set_, dir_);
+    write_piece_objs(set_, dir_);
     write_mesh(dir_ / "exterior.ply", exterior);
     nlohmann::ordered_json report = {{"version", "test"}, {"pieces", 2}, {"frames", 3}};
     for (std::size_t p = 0; p < 2; ++p) report["piece_meshes"].push_back({{"piece", p}, {"triangles", set_.pieces[p].triangles.size()}});

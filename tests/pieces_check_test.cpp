@@ -7,6 +7,7 @@
 
 #include <unistd.h>
 
+#include "animate/piece_surface.hpp"
 #include "io/mesh_io.hpp"
 #include "pieces/pieces_internal.hpp"
 #include "pieces_test_support.hpp"
@@ -123,6 +124,7 @@ TEST(PiecesWrite, PlyAndObjReadBack) {
   Fixture f;
   const std::filesystem::path dir = temp_folder("write");
   write_pieces(f.set, dir);
+  write_piece_objs(f.set, dir);
   for (std::size_t p = 0; p < 2; ++p) {
     const std::string stem = "piece_00" + std::to_string(p);
     const MeshSoup ply = read_mesh(dir / "pieces" / (stem + ".ply"));

@@ -2,6 +2,7 @@
 // Internal to the animate room: the steps of build_transfer, shared by its .cpp files.
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "animate/animate.hpp"
@@ -54,5 +55,9 @@ struct LocalFaces {
 /// `what` names the caller in messages. \throw RunError when the layout has another piece
 /// count than `pieces`, or a piece uses a vertex the layout does not list.
 LocalFaces local_faces(const PieceSet& pieces, const PieceLayout& layout, const char* what);
+
+/// The `.mtl` text of the materials `outside` (exterior) and `inside` (fracture faces), with a
+/// first comment line naming `what` ("pieces", "frames").
+std::string material_library(const std::string& what);
 
 }  // namespace fracref::animate_detail

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "animate/animate_internal.hpp"
 #include "util/atomic_output.hpp"
 #include "util/error.hpp"
 
@@ -103,11 +104,6 @@ std::string piece_obj_text(const PieceSet& set, const PieceSet::Piece& piece, co
   return out;
 }
 
-const char* material_text() {
-  return "# fracref pieces: exterior (outside) and fracture (inside) faces\n"
-         "newmtl outside\nKa 0 0 0\nKd 0.8 0.8 0.8\nKs 0.1 0.1 0.1\nNs 20\nillum 2\n\n"
-         "newmtl inside\nKa 0 0 0\nKd 0.85 0.55 0.35\nKs 0.05 0.05 0.05\nNs 10\nillum 2\n";
-}
 
 }  // namespace
 
@@ -151,7 +147,7 @@ void write_piece_objs(const PieceSet& pieces, const std::filesystem::path& folde
                      std::to_string(piece.triangles.size()) + " triangles");
     write_file_atomic(dir / (piece_name(p) + ".obj"), piece_obj_text(pieces, piece, piece_name(p)));
   }
-  write_file_atomic(dir / "pieces.mtl", material_text());
+  write_file_atomic(dir / "pieces.mtl", animate_detail::material_library("pieces"));
 }
 
 }  // namespace fracref

@@ -41,8 +41,9 @@ SplitPiece split_piece(const std::vector<std::array<std::uint32_t, 3>>& faces, c
 /// the first axis. \pre scale > 0.
 glm::dvec2 box_texcoord(const glm::dvec3& material, const glm::dvec3& normal, const glm::dvec3& lo, double scale);
 
-/// Writes `folder`/pieces/piece_NNN.obj and pieces.mtl as write_pieces does (the same vertex order
-/// and faces), with one `vn` per split id and faces `f v//vn`: split normals.
+/// Writes `folder`/pieces/piece_NNN.obj and pieces.mtl: a piece's vertices in ascending shared
+/// index (as write_pieces' PLY), one `vn` per split id, the outside faces under `usemtl outside`
+/// then the inside ones under `usemtl inside`, as `f v//vn`: split normals.
 /// \throw RunError when a file cannot be written.
 void write_piece_objs(const PieceSet& pieces, const std::filesystem::path& folder);
 

@@ -83,11 +83,6 @@ std::string frame_text(const FrameTemplate& tmpl, const PieceLayout& layout, con
   return out;
 }
 
-const char* material_text() {
-  return "# fracref frames: exterior (outside) and fracture (inside) faces\n"
-         "newmtl outside\nKa 0 0 0\nKd 0.8 0.8 0.8\nKs 0.1 0.1 0.1\nNs 20\nillum 2\n\n"
-         "newmtl inside\nKa 0 0 0\nKd 0.85 0.55 0.35\nKs 0.05 0.05 0.05\nNs 10\nillum 2\n";
-}
 
 using FrameFn = std::function<std::vector<glm::dvec3>(std::size_t)>;
 
@@ -174,12 +169,18 @@ void write_all(const PieceSet& pieces, const PieceLayout& layout, std::size_t fr
     write_file_atomic(dir / "topology.obj", frame_text(tmpl, layout, checked_frame(frame, layout, 0), 0, frame_count, fps));
     write_positions(layout, frame_count, fps, dir / "positions.bin", frame);
   }
-  write_file_atomic(dir / "frames.mtl", material_text());
+  write_file_atomic(dir / "frames.mtl", animate_detail::material_library("frames"));
 }
 
 }  // namespace
 
 namespace animate_detail {
+
+std::string material_library(const std::string& what) {
+  return "# fracref " + what + ": exterior (outside) and fracture (inside) faces\n"
+         "newmtl outside\nKa 0 0 0\nKd 0.8 0.8 0.8\nKs 0.1 0.1 0.1\nNs 20\nillum 2\n\n"
+         "newmtl inside\nKa 0 0 0\nKd 0.85 0.55 0.35\nKs 0.05 0.05 0.05\nNs 10\nillum 2\n";
+}
 
 LocalFaces local_faces(const PieceSet& pieces, const PieceLayout& layout, const char* what) {
   if (layout.vertices.size() != pieces.pieces.size())

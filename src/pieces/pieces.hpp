@@ -248,17 +248,13 @@ PieceReport check_pieces(const PieceSet& pieces, const MeshSoup& exterior, const
 void require_valid_pieces(const PieceReport& report);
 
 struct PieceWriteOptions {
-  bool ply = true;          ///< write piece_NNN.ply (face property inside, vertex mx my mz)
-  bool obj = true;          ///< write piece_NNN.obj with usemtl inside / outside and pieces.mtl
   bool ply_binary = true;
 };
 
-/// Writes `folder`/pieces/piece_<NNN>.ply and .obj (NNN = piece id, at least 3 digits) and
-/// `folder`/pieces/pieces.mtl, each through write_file_atomic. A piece's files hold only the
-/// vertices it uses, in ascending shared index. PLY: vertex properties mx, my, mz (double, the
-/// material-space position, here the position itself), face property inside (uchar).
-/// OBJ: `mtllib pieces.mtl`, the outside faces under `usemtl outside`, then the inside faces
-/// under `usemtl inside`; no texture coordinates or normals.
+/// Writes `folder`/pieces/piece_<NNN>.ply (NNN = piece id, at least 3 digits) through
+/// write_mesh. A piece's file holds only the vertices it uses, in ascending shared index: vertex
+/// properties mx, my, mz (double, the material-space position, here the position itself), face
+/// property inside (uchar). The OBJs are write_piece_objs' (animate/piece_surface.hpp).
 /// \throw RunError when a file cannot be written.
 void write_pieces(const PieceSet& pieces, const std::filesystem::path& folder, const PieceWriteOptions& options = {});
 

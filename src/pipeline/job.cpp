@@ -208,10 +208,7 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   PieceReport checked = check_pieces(pieces, exterior_mesh);
   report.pieces(pieces, checked);
   require_valid_pieces(checked);
-  PieceWriteOptions wo;
-  wo.ply = scene.output.ply;
-  wo.obj = false;  // written below, with split normals
-  write_pieces(pieces, out, wo);
+  if (scene.output.ply) write_pieces(pieces, out);
   if (scene.output.obj) write_piece_objs(pieces, out);
   report.seconds("pieces", seconds_since(t_pieces));
   if (o.stop_after == Stage::pieces || animation.frames.empty())
