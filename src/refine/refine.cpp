@@ -11,6 +11,7 @@
 #include "refine/containment.hpp"
 #include "refine/flips.hpp"
 #include "refine/motion_filters.hpp"
+#include "refine/rim_collar.hpp"
 #include "refine/samples.hpp"
 #include "refine/step_guard.hpp"
 #include "util/error.hpp"
@@ -41,7 +42,14 @@ class Refiner {
  public:
   Refiner(FractureSurface& s, const FieldGrid4& field, const ExteriorSurface& b, ComputeBackend& be,
           const RefineOptions& o)
-      : s_(s), field_(field), b_(b), be_(be), o_(o) {}
+      : s_(s), field_(field), b_(b), be_(be), o_(o) {
+    if (b.mesh.triangles.empty()) {
+      MeshSoup soup;
+      soup.positions = b.bvh.positions;
+      soup.triangles = b.bvh.triangles;
+      own_mesh_ = rim::make_exterior_mesh(soup);
+    }
+  }
 
   RefineResult run(const RefineProgress& progress);
 
@@ -52,6 +60,9 @@ class Refiner {
   double energy() const { return surface_energy(view(), samples_); }
   StepGuardOptions step_guard_options() const;
   void conform_boundary();
+  const rim::ExteriorMesh& mesh() const { return b_.mesh.triangles.empty() ? own_mesh_ : b_.mesh; }
+  void embed_rim();
+  void locate_new_rim_vertices();
   // Containment splits: lengths in the scene's unit, nothing split below the sample spacing.
   TuckOptions tuck_options() const { return {.scale = o_.scale, .min_edge = o_.delta}; }
   bool flow_step(double ceiling, IterationStats& st);
@@ -83,6 +94,8 @@ class Refiner {
   const ExteriorSurface& b_;
   ComputeBackend& be_;
   RefineOptions o_;
+  rim::ExteriorMesh own_mesh_;  // B's mesh when the ExteriorSurface came without one
+  rim::RimOnB rim_;             // where S's rim vertices lie on B (rim/rim_on_b.hpp)
   RefinementTree tree_;
   std::vector<glm::vec4> samples_, velocity_;
   double dt_ = 0.0;               // the flow's time step (see kDefaultStep)
@@ -463,6 +476,41 @@ void Refiner::conform_boundary() {
   }
 }
 
+// S's rim is embedded in B once, after the conforming splits (fewer traces to walk): from then
+// on a rim edge is only split at a point of its own segment, in the same triangle of B.
+void Refiner::embed_rim() {
+  rim::Embedding e = rim::embed_rim(s_, mesh());
+  for (const rim::EmbeddedVertex& a : e.added) {
+    tree_.parents.push_back(glm::uvec3(a.parents[0], a.parents[1], a.parents[2]));
+    tree_.weights.push_back(glm::vec3(a.weights));
+  }
+  rim_ = std::move(e.rim);
+}
+
+// Rim vertices made by splits since the last call lie on their rim edge's segment: their
+// location is the point of that segment at the split's weight (the tree's), and their position
+// that location's point.
+void Refiner::locate_new_rim_vertices() {
+  const std::size_t first = rim_.at.size();
+  rim_.at.resize(s_.positions.size());
+  rim_.on_b.resize(s_.positions.size(), 0);
+  for (std::size_t v = first; v < s_.positions.size(); ++v) {
+    if (!(s_.vertex_flags[v] & kVertexBoundary)) continue;
+    const glm::uvec3 p = tree_.parents[v];
+    const glm::vec3 w = tree_.weights[v];
+    int ends[3], n = 0;
+    for (int k = 0; k < 3; ++k)
+      if (w[k] != 0.0f) ends[n++] = k;
+    const int a = ends[0], b = n == 2 ? ends[1] : ends[0];
+    if (n != 2 || !rim_.on_b[p[a]] || !rim_.on_b[p[b]])
+      throw RunError("internal: rim vertex " + std::to_string(v) + " was split off a rim edge without a location on the exterior");
+    const double t = double(w[b]) / (double(w[a]) + double(w[b]));
+    rim_.at[v] = rim::split_location(mesh(), rim_, p[a], p[b], t);
+    rim_.on_b[v] = 1;
+    s_.positions[v] = glm::vec4(glm::vec3(rim_.at[v].point), 1.0f);
+  }
+}
+
 // Splits, flips, then one flow step that moves the new vertices with the others. The splits may
 // raise E a little (ψ at a sample is not the interpolation of its corners'), so the step must
 // bring E to at most `e_before`, the energy the iteration started at; when no step does, the
@@ -475,6 +523,7 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   const std::vector<glm::vec4> samples_before = samples_, velocity_before = velocity_;
   const std::vector<glm::vec3> moves_before = last_move_;
   st.splits = refine_step(it);
+  locate_new_rim_vertices();
   sample_new_vertices();
   st.phases.splits = seconds_since(t0);
   auto t1 = Clock::now();
@@ -493,6 +542,7 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
     samples_ = samples_before, velocity_ = velocity_before, last_move_ = moves_before;
     tree_.parents.resize(s_.positions.size()), tree_.weights.resize(s_.positions.size());
     clearance_.resize(s_.positions.size());
+    rim_.at.resize(s_.positions.size()), rim_.on_b.resize(s_.positions.size());
     st.splits = st.flips = 0;
     st.energy = e_before;  // S is the one e_before was measured on
   }
@@ -522,6 +572,11 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   project_boundary_vertices(s_, b_);
   conform_boundary();
   tuck_inside(s_, tree_, b_, tuck_options());
+  embed_rim();
+  if (getenv("FRACREF_DEBUG_RIM")) fprintf(stderr, "after embed %zu vertices\n", s_.positions.size());
+  collar_rim(s_, tree_, mesh(), rim_);
+  if (getenv("FRACREF_DEBUG_RIM")) fprintf(stderr, "after collar %zu vertices\n", s_.positions.size());
+  locate_new_rim_vertices();
   last_move_.assign(s_.positions.size(), glm::vec3(0.0f));
   evaluate();
   result.initial_energy = energy();
@@ -546,13 +601,17 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   // rim faces): such faces are tucked in as before the flow.
   tuck_inside(s_, tree_, b_, tuck_options());
   split_rim_chords(s_, tree_, b_, tuck_options(), kChordPasses);
+  locate_new_rim_vertices();
   // Every edit is meant to keep S valid; a violation here is a bug, and it must not reach the
   // pieces or the output files silently. The derived arrays are the incremental rebuilds' (which
   // the unit tests compare with fresh ones): comparing them with a fresh rebuild here would cost
   // a full rebuild.
   if (std::string broken = validate_rebuilt(s_); !broken.empty())
     throw RunError("refinement produced an invalid fracture surface (an internal error; please report it): " + broken);
+  if (std::string loose = rim::find_unembedded_rim(s_, mesh(), rim_); !loose.empty())
+    throw RunError("refinement left the rim off the exterior (an internal error; please report it): " + loose);
   result.tree = std::move(tree_);
+  result.rim = std::move(rim_);
   return result;
 }
 
