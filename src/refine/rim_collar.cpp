@@ -5,6 +5,9 @@
 #include <cmath>
 #include <limits>
 
+#include "geom/bvh.hpp"
+#include "geom/face_guard.hpp"
+
 namespace fracref {
 namespace {
 
@@ -29,11 +32,14 @@ double shortest_rim_edge(const FractureSurface& s, std::uint32_t p) {
 std::size_t collar_rim(FractureSurface& s, RefinementTree& tree, const rim::ExteriorMesh& exterior, const rim::RimOnB& rim,
                        const CollarOptions& o) {
   std::size_t made = 0;
-  std::vector<char> done(s.positions.size(), 0);  // per rim vertex: its edges were judged
   for (int pass = 0; pass < o.passes; ++pass) {
     std::vector<SplitRequest> requests;
     std::vector<glm::vec3> positions;
     std::vector<char> touched(s.faces.size(), 0);
+    const std::vector<glm::dvec3> x = double_positions(s);
+    std::vector<TriangleIds> faces;
+    for (const glm::uvec4& f : s.faces) faces.push_back({f.x, f.y, f.z});
+    FaceGuard guard(x, faces);
     for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
       if (s.edge_special[e] != kEdgeRegular) continue;
       const glm::uvec2 ab = s.edges[e];
@@ -47,18 +53,34 @@ std::size_t collar_rim(FractureSurface& s, RefinementTree& tree, const rim::Exte
       bool free = true;
       for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) free = free && !touched[s.ef_faces[k]];
       if (!free) continue;
-      for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) touched[s.ef_faces[k]] = 1;
       const double t = std::min(0.25, o.reach * shortest_rim_edge(s, p) / length);
-      glm::dvec3 x = at(s, p) + t * d;
-      x -= n * (glm::dot(x - at(s, p), n) + o.depth * t * length);
+      glm::dvec3 q = at(s, p) + t * d;
+      q -= n * (glm::dot(q - at(s, p), n) + o.depth * t * length);
+      q = stored_position(q);
+      if (!point_in_mesh(exterior.bvh, q)) continue;
+      // The new faces must meet no other face of S (exact).
+      const std::uint32_t id = guard.add_vertex(q);
+      std::vector<TriangleIds> made_faces;
+      std::vector<std::uint32_t> replaced;
+      for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) {
+        const glm::uvec4 f = s.faces[s.ef_faces[k]];
+        const std::uint32_t z = f.x + f.y + f.z - ab.x - ab.y;
+        const bool forward = (f.x == ab.x && f.y == ab.y) || (f.y == ab.x && f.z == ab.y) || (f.z == ab.x && f.x == ab.y);
+        const std::uint32_t u = forward ? ab.x : ab.y, w = forward ? ab.y : ab.x;
+        made_faces.push_back({u, id, z});
+        made_faces.push_back({id, w, z});
+        replaced.push_back(s.ef_faces[k]);
+      }
+      if (!guard.clear(made_faces, replaced)) continue;
+      guard.accept(made_faces, replaced);
+      for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) touched[s.ef_faces[k]] = 1;
       const float tp = float(rim_a ? t : 1.0 - t);
       requests.push_back({SplitRequest::kEdge, e, glm::vec3(1.0f - tp, tp, 0.0f)});
-      positions.push_back(glm::vec3(x));
+      positions.push_back(glm::vec3(q));
     }
     if (requests.empty()) break;
     made += apply_splits(s, tree, requests, &positions);
   }
-  (void)done;
   return made;
 }
 
