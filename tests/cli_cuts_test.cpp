@@ -35,20 +35,27 @@ TEST(CliCuts, AHalfwayCutBecomesTwoPieces) {
   EXPECT_EQ(report["pieces_ok"], true) << text;
 }
 
-TEST(CliCuts, ACutSmallerThanTheDefaultCellWorksWithAFinerLattice) {
+TEST(CliCuts, ACutSmallerThanTheFirstCellGetsAFinerLattice) {
   TempDir t;
   t.write("cube.obj", kCube);
-  // A small disc-like cut near a corner: at the default 24 cells per diagonal it crosses no tet
-  // face; with 96 it does and is completed into a corner piece.
+  // A small disc-like cut near a corner: at 24 cells per diagonal it crosses no tet face; the
+  // automatic lattice (no cells_per_diagonal) refines until it does, 96 does too.
   t.write("small.obj", "v 0.2 0.02 0.02\nv 0.2 0.02 0.06\nv 0.2 0.06 0.06\nv 0.2 0.06 0.02\nf 1 2 3 4\n");
   const std::string scene = R"({"exterior": "cube.obj", "fracture": {"kind": "cuts", "mesh": "small.obj"CELLS},
     "field": {"type": "marble", "resolution": [8, 8, 8]}, "refine": {"max_iterations": 2, "max_triangles": 20000}})";
-  auto coarse = t.write("coarse.json", std::string(scene).replace(scene.find("CELLS"), 5, ""));
-  auto r = run("refine " + coarse.string() + " -o " + (t.path / "coarse").string() + " --backend cpu --stop-after preprocess");
+  auto at = [&](const std::string& name, const std::string& cells) {
+    return t.write(name, std::string(scene).replace(scene.find("CELLS"), 5, cells));
+  };
+  auto r = run("refine " + at("coarse.json", R"(, "cells_per_diagonal": 24)").string() + " -o " +
+               (t.path / "coarse").string() + " --backend cpu --stop-after preprocess");
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("small.obj: cut 1 of 1"), std::string::npos) << r.err;
-  auto fine = t.write("fine.json", std::string(scene).replace(scene.find("CELLS"), 5, R"(, "cells_per_diagonal": 96)"));
-  r = run("refine " + fine.string() + " -o " + (t.path / "fine").string() + " --backend cpu --stop-after preprocess -q");
+  EXPECT_NE(r.err.find("at 24 cells per diagonal"), std::string::npos) << r.err;
+  r = run("refine " + at("auto.json", "").string() + " -o " + (t.path / "auto").string() +
+          " --backend cpu --stop-after preprocess -q");
+  EXPECT_EQ(r.code, 0) << r.err;
+  r = run("refine " + at("fine.json", R"(, "cells_per_diagonal": 96)").string() + " -o " + (t.path / "fine").string() +
+          " --backend cpu --stop-after preprocess -q");
   EXPECT_EQ(r.code, 0) << r.err;
 }
 

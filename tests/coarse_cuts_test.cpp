@@ -88,8 +88,8 @@ TEST(CoarseCuts, ACutOutsideTheExteriorIsAnError) {
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),
-              "cuts.obj: cut 2 of 2 (face 3, near (2, 0, -0.2)) crosses no tet face inside the exterior: it lies "
-              "outside the exterior or is smaller than the lattice cell");
+              "cuts.obj: cut 2 of 2 (face 3, near (2, 0, -0.2)) crosses no tet face inside the exterior at 96 cells "
+              "per diagonal: it lies outside the exterior or is smaller than the lattice cell");
   }
   EXPECT_THROW(build_cuts_model(unit_cube(), MeshSoup{}, "empty.obj"), InputError);
 }
