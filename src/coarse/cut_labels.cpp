@@ -121,28 +121,45 @@ std::vector<Run> fan_runs(const std::uint32_t* fan, std::uint32_t n, bool path, 
   return runs;
 }
 
-// Index of the run to relabel, or -1 when the fan is good.
-int offending_run(const std::vector<Run>& runs, bool path) {
+// Whether label a ranks above label b: more volume at the start, ties to the lower label.
+struct Rank {
+  const std::vector<double>& volume;
+  bool above(std::uint32_t a, std::uint32_t b) const {
+    return volume[a] != volume[b] ? volume[a] > volume[b] : a < b;
+  }
+};
+
+struct Move {
+  int run = -1;            // -1: the fan is good
+  std::uint32_t to = 0;    // the label it takes
+};
+
+// A path is bad with three runs or more, a cycle when a label holds two runs. The move: the
+// smallest offending run (any run of a bad path; in a cycle a run whose label repeats or whose
+// neighbours share a label) that has a neighbour of a higher rank takes the label of its
+// larger such neighbour. Labels only ever rise in rank, so the clean-up ends.
+Move choose_move(const std::vector<Run>& runs, bool path, const Rank& rank) {
   const std::size_t n = runs.size();
-  std::vector<std::size_t> candidates;
-  if (path) {
-    for (std::size_t k = 1; k + 1 < n; ++k) candidates.push_back(k);
-  } else if (n >= 3) {
-    for (std::size_t k = 0; k < n; ++k) {
+  bool bad = path ? n >= 3 : false;
+  for (std::size_t k = 0; k < n && !path && !bad; ++k)
+    for (std::size_t m = k + 1; m < n && !bad; ++m) bad = runs[m].label == runs[k].label;
+  Move best;
+  if (!bad) return best;
+  for (std::size_t k = 0; k < n; ++k) {
+    const bool has_prev = !path || k > 0, has_next = !path || k + 1 < n;
+    const Run* prev = has_prev ? &runs[(k + n - 1) % n] : nullptr;
+    const Run* next = has_next ? &runs[(k + 1) % n] : nullptr;
+    if (!path) {
       bool repeated = false;
       for (std::size_t m = 0; m < n; ++m) repeated = repeated || (m != k && runs[m].label == runs[k].label);
-      const bool between = runs[(k + n - 1) % n].label == runs[(k + 1) % n].label;
-      if (repeated || between) candidates.push_back(k);
+      if (!repeated && prev->label != next->label) continue;
     }
-    // A cycle is bad only when some label holds two runs.
-    bool bad = false;
-    for (std::size_t k = 0; k < n && !bad; ++k)
-      for (std::size_t m = k + 1; m < n && !bad; ++m) bad = runs[m].label == runs[k].label;
-    if (!bad) candidates.clear();
+    const Run* to = nullptr;
+    for (const Run* r : {prev, next})
+      if (r && rank.above(r->label, runs[k].label) && (!to || r->volume > to->volume)) to = r;
+    if (!to) continue;
+    if (best.run < 0 || runs[k].volume < runs[std::size_t(best.run)].volume) best = {int(k), to->label};
   }
-  int best = -1;
-  for (const std::size_t k : candidates)
-    if (best < 0 || runs[k].volume < runs[std::size_t(best)].volume) best = int(k);
   return best;
 }
 
@@ -169,8 +186,13 @@ std::vector<std::uint32_t> crack_components(const TetSet& set, const InteriorFac
 FanCleanupStats clean_label_fans(const TetSet& set, std::vector<std::uint32_t>& labels, const FanCleanupOptions& options) {
   if (labels.size() != set.tets.size()) throw RunError("clean_label_fans: one label per tet expected");
   const EdgeFans fans = edge_fans(set);
-  std::vector<double> volume(set.tets.size());
-  for (std::uint32_t t = 0; t < set.tets.size(); ++t) volume[t] = tet_volume(set, t);
+  std::vector<double> volume(set.tets.size()), label_volume(set.tets.size(), 0.0);
+  for (std::uint32_t t = 0; t < set.tets.size(); ++t) {
+    volume[t] = tet_volume(set, t);
+    if (labels[t] >= label_volume.size()) throw RunError("clean_label_fans: a label is not a tet id");
+    label_volume[labels[t]] += volume[t];
+  }
+  const Rank rank{label_volume};
   FanCleanupStats stats;
   while (stats.passes < options.max_passes) {
     ++stats.passes;
@@ -183,13 +205,10 @@ FanCleanupStats clean_label_fans(const TetSet& set, std::vector<std::uint32_t>& 
       if (uniform) continue;
       for (std::uint32_t guard = 0; guard < n; ++guard) {
         const std::vector<Run> runs = fan_runs(fan, n, fans.path[e] != 0, labels, volume);
-        const int k = offending_run(runs, fans.path[e] != 0);
-        if (k < 0) break;
-        const std::size_t r = std::size_t(k), m = runs.size();
-        const Run& prev = runs[(r + m - 1) % m];
-        const Run& next = runs[(r + 1) % m];
-        const std::uint32_t to = next.volume > prev.volume ? next.label : prev.label;
-        for (std::uint32_t p = runs[r].begin; p < runs[r].end; ++p) labels[fan[p % n]] = to;
+        const Move move = choose_move(runs, fans.path[e] != 0, rank);
+        if (move.run < 0) break;
+        const std::size_t r = std::size_t(move.run);
+        for (std::uint32_t p = runs[r].begin; p < runs[r].end; ++p) labels[fan[p % n]] = move.to;
         stats.tets_moved += runs[r].end - runs[r].begin;
         changed = true;
       }

@@ -35,12 +35,16 @@ struct FanCleanupStats {
 ///     where it may have one (the middle wedges touch B along the edge only);
 ///   - inside, a label holds two or more wedges: that piece would touch itself along the edge.
 /// Both come from a lattice too coarse for the geometry there (a cut grazing B, a thin part).
-/// A bad fan is fixed by relabelling its smallest offending wedge (by volume; ties to the first in
-/// fan order) with the label of its larger neighbouring wedge, until the fan is good. Edges are
-/// visited in ascending (a, b) order, pass after pass, until a pass changes nothing or
-/// max_passes is reached. Deterministic. A piece whose tets are all moved disappears.
-/// \pre labels.size() == set.tets.size(); set's tets positively oriented and conforming.
-/// \throw RunError when the sizes differ.
+/// Labels are ranked once, by their total volume (ties to the lower label). A bad fan is fixed
+/// by relabelling its smallest offending wedge (by volume; ties to the first in fan order) that
+/// has a neighbouring wedge of a higher-ranked label, with the label of the larger such
+/// neighbour, until the fan is good; each move merges two wedges, and a tet's label only rises
+/// in rank, so this ends. Edges are visited in ascending (a, b) order, pass after pass, until a
+/// pass changes nothing or max_passes is reached. Deterministic. A piece whose tets are all
+/// moved disappears.
+/// \pre labels.size() == set.tets.size(), each label a tet id (as crack_components() gives);
+///      set's tets positively oriented and conforming.
+/// \throw RunError when the sizes differ or a label is not a tet id.
 FanCleanupStats clean_label_fans(const TetSet& set, std::vector<std::uint32_t>& labels,
                                  const FanCleanupOptions& options = {});
 

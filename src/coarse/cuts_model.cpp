@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 
 #include "coarse/coarse_internal.hpp"
+#include "coarse/cut_extension.hpp"
 #include "coarse/cut_labels.hpp"
 #include "coarse/tet_lattice.hpp"
 #include "coarse/tet_tables.hpp"
@@ -109,14 +111,16 @@ std::vector<std::uint8_t> crack_faces(const TetSet& set, const InteriorFaces& fa
   return cracked;
 }
 
-// The error for cut c (0-based), which cracks no face at `cells` cells per diagonal.
+// The error for cut c (0-based), which cracks no face at `cells` cells per diagonal (0: its
+// bounding box misses the exterior's).
 InputError missed_cut(const MeshSoup& cuts, const std::string& cuts_file, const std::vector<std::uint32_t>& part,
                       std::uint32_t parts, std::uint32_t c, double cells) {
   const std::uint32_t t = std::uint32_t(std::find(part.begin(), part.end(), c) - part.begin());
-  return InputError(cuts_file + ": cut " + std::to_string(c + 1) + " of " + std::to_string(parts) + " (face " +
-                    std::to_string((cuts.triangle_polygon.empty() ? t : cuts.triangle_polygon[t]) + 1) + ", near " +
-                    near_text(cuts.positions[cuts.triangles[t][0]]) + ") crosses no tet face inside the exterior at " +
-                    cells_text(cells) +
+  const std::string which = cuts_file + ": cut " + std::to_string(c + 1) + " of " + std::to_string(parts) + " (face " +
+                            std::to_string((cuts.triangle_polygon.empty() ? t : cuts.triangle_polygon[t]) + 1) +
+                            ", near " + near_text(cuts.positions[cuts.triangles[t][0]]) + ")";
+  if (cells == 0.0) return InputError(which + " lies outside the exterior's bounding box");
+  return InputError(which + " crosses no tet face inside the exterior at " + cells_text(cells) +
                     " cells per diagonal: it lies outside the exterior or is smaller than the lattice cell");
 }
 
@@ -147,6 +151,19 @@ CoarseModel build_cuts_model(const MeshSoup& exterior, const MeshSoup& cuts, con
   if (cuts.triangles.empty()) throw InputError(cuts_file + ": the cuts file has no face");
   std::uint32_t parts = 0;
   const std::vector<std::uint32_t> part = cut_parts(cuts, parts);
+  // A cut whose box misses B's is outside whatever the lattice: refused before any refinement.
+  {
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const glm::dvec3& p : exterior.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    std::vector<std::uint8_t> overlaps(parts, 0);
+    for (std::size_t t = 0; t < cuts.triangles.size(); ++t) {
+      glm::dvec3 a = cuts.positions[cuts.triangles[t][0]], b = a;
+      for (const std::uint32_t v : cuts.triangles[t]) a = glm::min(a, cuts.positions[v]), b = glm::max(b, cuts.positions[v]);
+      if (glm::all(glm::lessThanEqual(a, hi)) && glm::all(glm::greaterThanEqual(b, lo))) overlaps[part[t]] = 1;
+    }
+    const std::uint32_t out = std::uint32_t(std::find(overlaps.begin(), overlaps.end(), 0) - overlaps.begin());
+    if (out < parts) throw missed_cut(cuts, cuts_file, part, parts, out, 0.0);
+  }
   const bool automatic = options.cells_per_diagonal <= 0.0;
   double cells = automatic ? options.auto_cells_first : options.cells_per_diagonal;
   TetSet set;
@@ -154,7 +171,16 @@ CoarseModel build_cuts_model(const MeshSoup& exterior, const MeshSoup& cuts, con
   std::vector<std::uint8_t> cracked;
   std::vector<std::uint32_t> face_cut;
   for (;;) {
-    set = stuff_exterior(exterior, cells, options);
+    try {
+      set = stuff_exterior(exterior, cells, options);
+    } catch (const RunError&) {  // no lattice tet inside: B is thinner than the cell everywhere
+      if (automatic && cells * 2.0 <= options.auto_cells_max) {
+        cells *= 2.0;
+        continue;
+      }
+      throw InputError(cuts_file + ": no lattice tet lies inside the exterior at " + cells_text(cells) +
+                       " cells per diagonal (the exterior is thinner than the cell): raise fracture.cells_per_diagonal");
+    }
     faces = interior_faces(set);
     std::uint32_t missed = parts;
     cracked = crack_faces(set, faces, cuts, part, parts, face_cut, missed);
@@ -165,9 +191,11 @@ CoarseModel build_cuts_model(const MeshSoup& exterior, const MeshSoup& cuts, con
   std::size_t virtual_faces = 0;
   double virtual_area = 0.0;
   if (options.virtual_fracture) {
+    // Flat cuts grow in their plane; what still ends inside B grows face by face.
+    const PlaneExtensionStats pe = extend_in_planes(set, faces, cut_planes(cuts, part, parts), face_cut, cracked);
     const VirtualFractureStats vf = extend_cracks(set.positions, faces.faces, hull_faces(set), cracked);
-    virtual_faces = vf.faces_added;
-    virtual_area = vf.area_added;
+    virtual_faces = pe.faces_added + vf.faces_added;
+    virtual_area = pe.area_added + vf.area_added;
   }
   std::vector<std::uint32_t> labels = crack_components(set, faces, cracked);
   TetMesh mesh;

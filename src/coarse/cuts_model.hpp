@@ -26,8 +26,8 @@ struct CutsOptions {
 
 /// Builds the coarse model:
 ///  1. B's inside is filled with tets (isosurface stuffing on a Kuhn lattice of cell
-///     diag/cells_per_diagonal; automatic: the coarsest of 24, 48, 96 at which every cut cracks
-///     a face);
+///     diag/cells_per_diagonal; automatic: the coarsest of 24, 48, 96 at which B holds a tet
+///     and every cut cracks a face);
 ///  2. an interior face is a crack when the segment between the centroids of its two tets
 ///     crosses a cut triangle, so a cut reaching past B is clipped to B;
 ///  3. with virtual_fracture the cracks are extended until they separate (extend_cracks());
@@ -37,8 +37,9 @@ struct CutsOptions {
 /// \pre `exterior` is closed, manifold and outward (the pipeline checks it with make_exterior).
 /// \throw InputError naming `cuts_file` when it has no triangle, or when a cut (a connected
 ///        part of its triangles) crosses no tet face inside B at the finest lattice allowed (it
-///        lies outside B, or is smaller than the lattice cell); and as build_tet_model() (a cut
-///        that cannot separate).
+///        lies outside B, or is smaller than the lattice cell), or when no tet fits inside B;
+///        when a cut separates nothing even after virtual fracture (it goes around a handle);
+///        and as build_tet_model() (with virtual_fracture off, a cut that does not separate).
 /// \throw RunError "internal error in the cuts input: ..." when S is still invalid (a bug).
 CoarseModel build_cuts_model(const MeshSoup& exterior, const MeshSoup& cuts, const std::string& cuts_file,
                              const CutsOptions& options = {});
