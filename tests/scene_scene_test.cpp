@@ -160,7 +160,7 @@ TEST(ParseScene, OtherVariants) {
   EXPECT_EQ(t.animation.fps, 24.0);
   const Scene c = parse_patched(R"({"fracture": {"kind": "cuts", "mesh": "cuts.obj"}})");
   EXPECT_EQ(c.fracture.kind, FractureKind::cuts);
-  EXPECT_EQ(c.fracture.cells_per_diagonal, 24.0);
+  EXPECT_EQ(c.fracture.cells_per_diagonal, 0.0);  // automatic
   EXPECT_EQ(parse_patched(R"({"fracture": {"kind": "cuts", "mesh": "c.obj", "cells_per_diagonal": 60}})").fracture.cells_per_diagonal,
             60.0);
   const Scene p = parse_patched(R"({"fracture": {"kind": "pieces", "mesh": "pieces.obj"}})");
