@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 
 #include "field/field_sampler.hpp"
 #include "flow/implicit_step.hpp"
@@ -10,6 +11,7 @@
 #include "refine/collisions.hpp"
 #include "refine/containment.hpp"
 #include "refine/flips.hpp"
+#include "refine/exterior_contact.hpp"
 #include "refine/motion_filters.hpp"
 #include "refine/rim_collar.hpp"
 #include "refine/samples.hpp"
@@ -63,6 +65,10 @@ class Refiner {
   const rim::ExteriorMesh& mesh() const { return b_.mesh.triangles.empty() ? own_mesh_ : b_.mesh; }
   void embed_rim();
   void locate_new_rim_vertices();
+  std::vector<std::uint32_t> new_crossings(const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
+                                           const std::vector<float>& clearance) const;
+  std::size_t hold_exterior_crossings(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1,
+                                      const std::vector<float>& clearance) const;
   // Containment splits: lengths in the scene's unit, nothing split below the sample spacing.
   TuckOptions tuck_options() const { return {.scale = o_.scale, .min_edge = o_.delta}; }
   bool flow_step(double ceiling, IterationStats& st);
@@ -158,6 +164,10 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
     clearance_ = clearance_x0;
     st.collisions_stopped += apply_collision_constraints(s_, b_, x0, full, &clearance_);
   }
+  std::vector<float> bound(clearance_.size());
+  for (std::size_t i = 0; i < bound.size(); ++i)
+    bound[i] = i < clearance_x0.size() ? std::min(clearance_[i], clearance_x0[i]) : clearance_[i];
+  st.collisions_stopped += hold_exterior_crossings(x0, full, bound);
   st.phases.flow_collisions = seconds_since(t_ccd);
   // Backtracking shortens the constrained, collision-free motion: every vertex then follows the
   // first part of the same straight path, which is collision-free too (boundary vertices are
@@ -168,6 +178,7 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
     for (std::size_t i = 0; i < x0.size(); ++i) x1[i] = x0[i] + fraction * (full[i] - x0[i]);
     if (attempt > 0) apply_boundary_constraint(s_, b_, x0, x1);
     if (attempt > 0 && motion_folds(s_, x0, x1, guard)) continue;
+    if (attempt > 0 && !new_crossings(x0, x1, bound).empty()) continue;
     s_.positions = x1;
     std::vector<glm::vec4> trial(x1.size()), vel(x1.size());
     be_.vertex_velocities(view(), trial, vel);
@@ -476,6 +487,37 @@ void Refiner::conform_boundary() {
   }
 }
 
+// The faces that meet B at x1 other than at their rim points and did not at x0
+// (refine/exterior_contact.hpp).
+std::vector<std::uint32_t> Refiner::new_crossings(const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
+                                                  const std::vector<float>& clearance) const {
+  std::vector<std::uint32_t> bad = faces_crossing_exterior(s_, x1, mesh(), rim_, clearance);
+  if (bad.empty()) return bad;
+  const std::vector<std::uint32_t> old = faces_crossing_exterior(s_, x0, mesh(), rim_, clearance, &bad);
+  std::vector<std::uint32_t> fresh;
+  std::set_difference(bad.begin(), bad.end(), old.begin(), old.end(), std::back_inserter(fresh));
+  return fresh;
+}
+
+// S meets B only at its rim: the vertices of a face the step would take across B stay at x0,
+// until no new crossing is left (with every vertex held, S is x0's).
+std::size_t Refiner::hold_exterior_crossings(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1,
+                                             const std::vector<float>& clearance) const {
+  std::size_t held = 0;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::uint32_t f : new_crossings(x0, x1, clearance))
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = s_.faces[f][k];
+        if (x1[v] == x0[v]) continue;
+        x1[v] = x0[v];
+        ++held;
+        changed = true;
+      }
+  }
+  return held;
+}
+
 // S's rim is embedded in B once, after the conforming splits (fewer traces to walk): from then
 // on a rim edge is only split at a point of its own segment, in the same triangle of B.
 void Refiner::embed_rim() {
@@ -575,7 +617,7 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   embed_rim();
   if (getenv("FRACREF_DEBUG_RIM")) fprintf(stderr, "after embed %zu vertices\n", s_.positions.size());
   collar_rim(s_, tree_, mesh(), rim_);
-  if (getenv("FRACREF_DEBUG_RIM")) fprintf(stderr, "after collar %zu vertices\n", s_.positions.size());
+  if (getenv("FRACREF_DEBUG_RIM")) fprintf(stderr, "after collar %zu vertices, %zu faces cross B\n", s_.positions.size(), faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size());
   locate_new_rim_vertices();
   last_move_.assign(s_.positions.size(), glm::vec3(0.0f));
   evaluate();
@@ -608,6 +650,11 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   // a full rebuild.
   if (std::string broken = validate_rebuilt(s_); !broken.empty())
     throw RunError("refinement produced an invalid fracture surface (an internal error; please report it): " + broken);
+  if (getenv("FRACREF_DEBUG_RIM")) {
+    const auto bad = faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {});
+    fprintf(stderr, "after refine: %zu faces cross B\n", bad.size());
+    for (std::size_t i = 0; i < bad.size() && i < 5; ++i) fprintf(stderr, "  face %u (%u %u %u)\n", bad[i], s_.faces[bad[i]].x, s_.faces[bad[i]].y, s_.faces[bad[i]].z);
+  }
   if (std::string loose = rim::find_unembedded_rim(s_, mesh(), rim_); !loose.empty())
     throw RunError("refinement left the rim off the exterior (an internal error; please report it): " + loose);
   result.tree = std::move(tree_);

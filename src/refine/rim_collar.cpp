@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 #include "geom/bvh.hpp"
@@ -41,23 +43,32 @@ std::size_t collar_rim(FractureSurface& s, RefinementTree& tree, const rim::Exte
     for (const glm::uvec4& f : s.faces) faces.push_back({f.x, f.y, f.z});
     FaceGuard guard(x, faces);
     for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
-      if (s.edge_special[e] != kEdgeRegular) continue;
+      if (s.edge_special[e] == kEdgeBoundary) continue;
       const glm::uvec2 ab = s.edges[e];
       const bool rim_a = ab.x < rim.on_b.size() && rim.on_b[ab.x], rim_b = ab.y < rim.on_b.size() && rim.on_b[ab.y];
       if (rim_a == rim_b) continue;  // interior, or a chord (split_rim_chords splits those)
       const std::uint32_t p = rim_a ? ab.x : ab.y, c = rim_a ? ab.y : ab.x;
-      const glm::dvec3 n = rim::location_normal(exterior, rim.at[p]);
+      // Judged against each triangle of B that holds p (the pieces stage's rule, exterior_contact.hpp).
+      const std::vector<std::uint32_t> holders = rim::location_faces(exterior, rim.at[p]);
       const glm::dvec3 d = at(s, c) - at(s, p);
       const double length = glm::length(d);
-      if (!(length > 0.0) || glm::dot(d, n) < -o.grazing * length) continue;
+      double rise = -1.0;
+      for (std::uint32_t h : holders) rise = std::max(rise, glm::dot(d, exterior.face_normals[h]) / length);
+      if (getenv("FRACREF_DEBUG_COLLAR") && (p == 805 || c == 387)) fprintf(stderr, "pass %d edge %u-%u rise %g holders %zu\n", pass, p, c, rise, holders.size());
+      if (!(length > 0.0) || rise < -o.grazing) continue;
       bool free = true;
       for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) free = free && !touched[s.ef_faces[k]];
       if (!free) continue;
       const double t = std::min(0.25, o.reach * shortest_rim_edge(s, p) / length);
       glm::dvec3 q = at(s, p) + t * d;
-      q -= n * (glm::dot(q - at(s, p), n) + o.depth * t * length);
+      for (int round = 0; round < 3; ++round)
+        for (std::uint32_t h : holders) {
+          const glm::dvec3 n = exterior.face_normals[h];
+          const double over = glm::dot(q - at(s, p), n) + o.depth * t * length;
+          if (over > 0.0) q -= n * over;
+        }
       q = stored_position(q);
-      if (!point_in_mesh(exterior.bvh, q)) continue;
+      if (!point_in_mesh(exterior.bvh, q)) { if (getenv("FRACREF_DEBUG_COLLAR") && (p == 805 || c == 387)) fprintf(stderr, "  outside\n"); continue; }
       // The new faces must meet no other face of S (exact).
       const std::uint32_t id = guard.add_vertex(q);
       std::vector<TriangleIds> made_faces;
@@ -71,7 +82,7 @@ std::size_t collar_rim(FractureSurface& s, RefinementTree& tree, const rim::Exte
         made_faces.push_back({id, w, z});
         replaced.push_back(s.ef_faces[k]);
       }
-      if (!guard.clear(made_faces, replaced)) continue;
+      if (!guard.clear(made_faces, replaced)) { if (getenv("FRACREF_DEBUG_COLLAR") && (p == 805 || c == 387)) fprintf(stderr, "  guard\n"); continue; }
       guard.accept(made_faces, replaced);
       for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) touched[s.ef_faces[k]] = 1;
       const float tp = float(rim_a ? t : 1.0 - t);

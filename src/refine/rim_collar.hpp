@@ -20,7 +20,7 @@ struct CollarOptions {
   double reach = 1.0;
   /// and this far under the tangent plane, as a fraction of its distance from the rim vertex.
   double depth = 0.2;
-  int passes = 4;  ///< rounds of splits (an edge split touches both its faces; one per face a round)
+  int passes = 8;  ///< rounds of splits (an edge split touches both its faces; one per face a round)
 };
 
 /// Splits the grazing inner edges at S's rim vertices (see the file comment); the tree records

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "geom/bvh.hpp"
+#include "geom/predicates.hpp"
 
 #include "util/error.hpp"
 
@@ -27,6 +28,7 @@ class Embedder {
 
   Embedding run() {
     retract_overshooting_rim();
+    retract_grazing_rim();
     locate_rim();
     std::map<std::uint32_t, std::array<std::vector<std::uint32_t>, 3>> sides;  // face -> points per side
     for (std::uint32_t e = 0; e < s_.edges.size(); ++e) {
@@ -69,6 +71,46 @@ class Embedder {
           if (t > along) along = t, toward = v;
         }
       if (along > 0.0) move_rim_vertex(w, closest_point(m_.bvh, at(s_, w) + along * (at(s_, toward) - at(s_, w))).point);
+    }
+  }
+
+  // Whether every vertex off the rim of a face at rim vertex w lies strictly inside B's side of
+  // the plane of each triangle of B that holds w's location (the contact rule of
+  // refine/exterior_contact.hpp), with w at `x`; and (the worst offender) the one rising most.
+  bool faces_inside_holders(std::uint32_t w, const glm::dvec3& x, std::uint32_t* worst) const {
+    const Location loc = locate_on_exterior(m_, x, o_.location_epsilon, nullptr);
+    bool ok = true;
+    double most = -1.0;
+    for (std::uint32_t k = s_.vf_offsets[w]; k < s_.vf_offsets[w + 1]; ++k)
+      for (int c = 0; c < 3; ++c) {
+        const std::uint32_t v = s_.faces[s_.vf_faces[k]][c];
+        if (v == w || (s_.vertex_flags[v] & kVertexBoundary)) continue;
+        for (std::uint32_t h : location_faces(m_, loc)) {
+          const auto& t = m_.triangles[h];
+          if (orient3d(m_.positions[t[0]], m_.positions[t[1]], m_.positions[t[2]], at(s_, v)) > 0) continue;
+          ok = false;
+          const double rise = glm::dot(at(s_, v) - x, m_.face_normals[h]) / std::max(1e-300, glm::length(at(s_, v) - x));
+          if (rise > most) most = rise, *worst = v;
+        }
+      }
+    return ok;
+  }
+
+  // Where S meets B at a grazing angle, a face at a rim vertex rises above B's tangent plane:
+  // the rim vertex is moved toward that face's offending vertex, onto B, the least of a few
+  // steps that makes every face at it start inside B (or not at all).
+  void retract_grazing_rim() {
+    for (std::uint32_t w = 0; w < s_.positions.size(); ++w) {
+      if (!(s_.vertex_flags[w] & kVertexBoundary)) continue;
+      std::uint32_t worst = w;
+      if (faces_inside_holders(w, at(s_, w), &worst)) continue;
+      for (double f = 0.05; f <= 0.5; f += 0.05) {
+        const glm::dvec3 x = closest_point(m_.bvh, at(s_, w) + f * (at(s_, worst) - at(s_, w))).point;
+        std::uint32_t unused = w;
+        if (!faces_inside_holders(w, x, &unused)) continue;
+        move_rim_vertex(w, x);
+        break;
+      }
     }
   }
 
