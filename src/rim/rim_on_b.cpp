@@ -8,6 +8,7 @@
 #include "geom/bvh.hpp"
 #include "geom/predicates.hpp"
 
+#include "rim/rim_clip.hpp"
 #include "util/error.hpp"
 
 namespace fracref::rim {
@@ -27,9 +28,9 @@ class Embedder {
   Embedder(FractureSurface& s, const ExteriorMesh& m, const EmbedOptions& o) : s_(s), m_(m), o_(o) {}
 
   Embedding run() {
-    retract_overshooting_rim();
-    retract_grazing_rim();
     locate_rim();
+    out_.clipped = clip_grazing_rim(s_, m_, out_.rim, out_.added, o_);
+    rebuild_adjacency(s_);
     std::map<std::uint32_t, std::array<std::vector<std::uint32_t>, 3>> sides;  // face -> points per side
     for (std::uint32_t e = 0; e < s_.edges.size(); ++e) {
       if (s_.edge_special[e] != kEdgeBoundary) continue;

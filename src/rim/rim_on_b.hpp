@@ -46,6 +46,7 @@ struct Embedding {
   RimOnB rim;
   std::vector<EmbeddedVertex> added;  ///< ascending vertex; the new vertices are the last of S
   std::uint32_t retracted = 0;        ///< rim vertices moved to where S enters B
+  std::uint32_t clipped = 0;          ///< grazing rim vertices cut away (rim_clip.hpp)
 };
 
 /// Where S overshoots a concave B (a rim vertex's inner edge leaves it outside B), moves the rim
