@@ -47,17 +47,6 @@ std::vector<std::uint32_t> cut_parts(const MeshSoup& cuts, std::uint32_t& count)
   return part;
 }
 
-TetSet stuff_exterior(const MeshSoup& exterior, const CutsOptions& o) {
-  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  for (const glm::dvec3& p : exterior.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  const double h = glm::length(hi - lo) / o.cells_per_diagonal;
-  LatticeSpec spec;
-  spec.lo = lo - 1.5 * h;
-  for (int a = 0; a < 3; ++a) spec.cells[a] = int(std::ceil((hi[a] - lo[a]) / h)) + 3;
-  spec.hi = spec.lo + h * glm::dvec3(spec.cells);
-  return stuffed_tets(exterior.positions, exterior.triangles, spec, o.warp);
-}
-
 std::string near_text(const glm::dvec3& p) {
   char buf[96];
   std::snprintf(buf, sizeof buf, "(%.4g, %.4g, %.4g)", p.x, p.y, p.z);
@@ -69,7 +58,7 @@ std::string near_text(const glm::dvec3& p) {
 CoarseModel build_cuts_model(const MeshSoup& exterior, const MeshSoup& cuts, const std::string& cuts_file,
                              const CutsOptions& options) {
   if (cuts.triangles.empty()) throw InputError(cuts_file + ": the cuts file has no face");
-  const TetSet set = stuff_exterior(exterior, options);
+  const TetSet set = stuff_inside(exterior.positions, exterior.triangles, options.cells_per_diagonal, options.warp);
   const InteriorFaces faces = interior_faces(set);
   std::uint32_t parts = 0;
   const std::vector<std::uint32_t> part = cut_parts(cuts, parts);
