@@ -73,7 +73,9 @@ TEST(CoarseFit, TwoCubesAGapApartAreFitted) {
   EXPECT_NEAR(m.fit.exterior_volume, 2.01, 1e-12);
   EXPECT_FALSE(m.tets.empty());
   for (const glm::vec4& p : m.surface.positions)  // S runs through the gap, within a cell
-    if (p.y > 0.01f && p.y < 0.99f && p.z > 0.01f && p.z < 0.99f) EXPECT_NEAR(p.x, 1.005, 0.25);
+    if (p.y > 0.01f && p.y < 0.99f && p.z > 0.01f && p.z < 0.99f) {
+      EXPECT_NEAR(p.x, 1.005, 0.25);
+    }
 }
 
 TEST(CoarseFit, CutTriangulatedDifferentlyOnTwoSidesIsFitted) {

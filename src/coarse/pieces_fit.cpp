@@ -101,13 +101,20 @@ std::string number_text(double x) {
   return buf;
 }
 
-// Throws for the first tet (lowest index) whose centre is farther than the tolerance from every piece.
-void check_covered(const TetSet& set, const std::vector<Label>& labels, const PieceTrees& trees,
-                   const std::string& file, const FitOptions& o, double diagonal) {
+// A centre farther than the tolerance from every piece is still a gap when it lies about as far
+// outside B (a lattice tet near B reaches past it by part of a cell): it goes to the nearest piece.
+// Otherwise throws, for the first such tet (lowest index).
+void resolve_uncovered(const TetSet& set, std::vector<Label>& labels, const PieceTrees& trees, const Bvh& exterior,
+                       const std::string& file, const FitOptions& o, double diagonal) {
   for (std::size_t t = 0; t < labels.size(); ++t) {
     if (labels[t].where != Where::uncovered) continue;
     const glm::dvec3 c = centroid(set, t);
-    const double d = std::sqrt(closest_point(trees.all, c).squared_distance);
+    const ClosestPoint near = closest_point(trees.all, c);
+    const double d = std::sqrt(near.squared_distance), outside = std::sqrt(closest_point(exterior, c).squared_distance);
+    if (d <= o.tolerance * diagonal + outside) {
+      labels[t] = {trees.all_piece[near.triangle], Where::gap};
+      continue;
+    }
     throw InputError(file + ": the pieces do not fill the exterior: the point " + point_text(c) +
                      " inside it lies " + number_text(d) + " from the nearest piece, farther than fracture.tolerance (" +
                      number_text(o.tolerance) + " of the diagonal, " + number_text(o.tolerance * diagonal) +
@@ -177,10 +184,13 @@ std::vector<std::uint32_t> grow_empty_pieces(const TetSet& set, const InteriorFa
   return grown;
 }
 
-TetSet stuff_exterior(const MeshSoup& exterior, const std::string& file, const FitOptions& o) {
+void check_exterior(const MeshSoup& exterior, const std::string& file) {
   const double diagonal = bbox_diagonal(exterior.positions);
   if (exterior.triangles.empty() || !std::isfinite(diagonal) || !(diagonal > 0.0))
     throw InputError(file + ": the exterior has no volume to fit the pieces in (no face, or a box of size 0)");
+}
+
+TetSet stuff_exterior(const MeshSoup& exterior, const std::string& file, const FitOptions& o) {
   try {
     return stuff_inside(exterior.positions, exterior.triangles, o.cells_per_diagonal, o.warp);
   } catch (const RunError& e) {
@@ -200,6 +210,33 @@ void measure(PiecesFit& fit, const TetSet& set, const std::vector<Label>& labels
   fit.tets = set.tets.size();
 }
 
+// The pieces' labels on one lattice of B, cleaned up but for the pieces that got no tet.
+struct Lattice {
+  TetSet set;
+  InteriorFaces faces;
+  std::vector<Label> labels;  // as sampled
+  std::vector<int> label;     // cleaned
+  std::size_t relabelled = 0;
+  bool finer_helps = false;  // a piece got no tet, though its volume would fill one of the lattice's tets
+};
+
+Lattice label_lattice(const MeshSoup& exterior, const std::string& exterior_file, const Bvh& b, const PieceTrees& trees,
+                      const std::vector<double>& volume, const std::string& file, const FitOptions& o, double diagonal) {
+  Lattice l;
+  l.set = stuff_exterior(exterior, exterior_file, o);
+  l.labels = label_tets(l.set, trees, o.tolerance * diagonal);
+  resolve_uncovered(l.set, l.labels, trees, b, file, o, diagonal);
+  for (const Label& x : l.labels) l.label.push_back(x.piece);
+  l.faces = interior_faces(l.set);
+  l.relabelled = merge_islands(l.set.tets.size(), l.faces, l.label, o.island_fraction);
+  l.relabelled += untangle_edges(l.set, l.label, std::vector<bool>(l.set.tets.size(), false));
+  std::vector<bool> seen(volume.size(), false);
+  for (int x : l.label) seen[x] = true;
+  const double cell = diagonal / o.cells_per_diagonal;
+  for (std::size_t p = 0; p < volume.size(); ++p) l.finer_helps = l.finer_helps || (!seen[p] && volume[p] >= cell * cell * cell / 8.0);
+  return l;
+}
+
 }  // namespace
 
 CoarseModel fit_pieces_model(const MeshSoup& exterior, const std::string& exterior_file,
@@ -207,21 +244,24 @@ CoarseModel fit_pieces_model(const MeshSoup& exterior, const std::string& exteri
   if (pieces.empty()) throw InputError("pieces: no piece given");
   const std::string& file = pieces[0].file;
   const double diagonal = bbox_diagonal(exterior.positions);
-  const TetSet set = stuff_exterior(exterior, exterior_file, o);
   const PieceTrees trees = piece_trees(pieces);
-  const std::vector<Label> labels = label_tets(set, trees, o.tolerance * diagonal);
-  check_covered(set, labels, trees, file, o, diagonal);
-  std::vector<int> label(labels.size());
-  for (std::size_t t = 0; t < labels.size(); ++t) label[t] = labels[t].piece;
-  const InteriorFaces faces = interior_faces(set);
+  check_exterior(exterior, exterior_file);
+  const Bvh b = build_bvh(exterior.positions, exterior.triangles);
+  std::vector<double> volume;
+  for (const PieceInput& p : pieces) volume.push_back(std::abs(signed_volume(p.positions, p.triangles)));
+  FitOptions level = o;
+  Lattice l = label_lattice(exterior, exterior_file, b, trees, volume, file, level, diagonal);
+  while (l.finer_helps && 2.0 * level.cells_per_diagonal <= o.max_cells_per_diagonal) {
+    level.cells_per_diagonal *= 2.0;
+    l = label_lattice(exterior, exterior_file, b, trees, volume, file, level, diagonal);
+  }
   PiecesFit fit;
-  fit.cell = diagonal / o.cells_per_diagonal;
-  fit.tets_relabelled = merge_islands(set.tets.size(), faces, label, o.island_fraction);
-  std::vector<bool> locked(set.tets.size(), false);
-  fit.tets_relabelled += untangle_edges(set, label, locked);
-  for (const std::uint32_t t : grow_empty_pieces(set, faces, trees, pieces, label, fit)) locked[t] = true;
-  if (!fit.grown.empty()) fit.tets_relabelled += untangle_edges(set, label, locked);
-  TetMesh mesh{file, set.positions, set.tets, std::vector<std::int64_t>(label.begin(), label.end()), {}};
+  fit.cell = diagonal / level.cells_per_diagonal;
+  fit.tets_relabelled = l.relabelled;
+  std::vector<bool> locked(l.set.tets.size(), false);
+  for (const std::uint32_t t : grow_empty_pieces(l.set, l.faces, trees, pieces, l.label, fit)) locked[t] = true;
+  if (!fit.grown.empty()) fit.tets_relabelled += untangle_edges(l.set, l.label, locked);
+  TetMesh mesh{file, l.set.positions, l.set.tets, std::vector<std::int64_t>(l.label.begin(), l.label.end()), {}};
   TetModelOptions to;
   to.own_vertices = o.own_vertices;
   CoarseModel m = build_tet_model(mesh, nullptr, to);
@@ -230,7 +270,7 @@ CoarseModel fit_pieces_model(const MeshSoup& exterior, const std::string& exteri
   m.fit.fitted = true;
   m.fit.reason = reason;
   m.fit.tolerance = o.tolerance * diagonal;
-  measure(m.fit, set, labels, exterior, pieces);
+  measure(m.fit, l.set, l.labels, exterior, pieces);
   return m;
 }
 
