@@ -149,3 +149,19 @@ TEST(CliInputs, PiecesThatCannotBeFittedAreRefusedNamingTheFileOrKey) {
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("key 'fracture.tolerance': must be in (0, 0.1], got 0.2"), std::string::npos) << r.err;
 }
+
+TEST(CliInputs, AnEmptyFractureSurfaceIsRefusedNamingTheFile) {
+  TempDir t;
+  t.write("box.obj", obj_box("", 0, 1, 0));
+  t.write("one.obj", obj_box("whole", 0, 1, 0));
+  auto scene = t.write("one.json", scene_text(R"({"kind": "pieces", "mesh": "one.obj"})"));
+  auto r = run("refine " + scene.string() + " -o " + (t.path / "one").string() + kCpu);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("one.obj: the fracture has 1 piece(s) and no fracture surface between them"), std::string::npos) << r.err;
+  t.write("cube.mesh", "MeshVersionFormatted 2\nDimension 3\nVertices\n8\n0 0 0 0\n1 0 0 0\n0 1 0 0\n1 1 0 0\n0 0 1 0\n1 0 1 0\n"
+                       "0 1 1 0\n1 1 1 0\nTetrahedra\n6\n1 2 4 8 1\n1 2 8 6 1\n1 3 8 4 1\n1 3 7 8 1\n1 5 6 8 1\n1 5 8 7 1\nEnd\n");
+  scene = t.write("tets.json", scene_text(R"({"kind": "tets", "mesh": "cube.mesh"})"));
+  r = run("refine " + scene.string() + " -o " + (t.path / "tets").string() + kCpu);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("cube.mesh: the fracture has 1 piece(s) and no fracture surface between them"), std::string::npos) << r.err;
+}
