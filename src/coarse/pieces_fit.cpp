@@ -1,6 +1,6 @@
 // Pieces that nearly conform, fitted on a tet lattice of the exterior: labels by the largest
-// generalized winding number (the nearest piece in a gap), stray islands merged, S the label
-// boundary (build_tet_model()).
+// generalized winding number (the nearest piece in a gap), cleaned up (fit_labels.hpp), S the
+// label boundary (build_tet_model()).
 #include "coarse/pieces_fit.hpp"
 
 #include <algorithm>
@@ -101,9 +101,10 @@ std::string number_text(double x) {
   return buf;
 }
 
-// A centre farther than the tolerance from every piece is still a gap when it lies about as far
-// outside B (a lattice tet near B reaches past it by part of a cell): it goes to the nearest piece.
-// Otherwise throws, for the first such tet (lowest index).
+// A centre farther than the tolerance from every piece is still a gap when it is not much
+// farther from them than from B's surface (a lattice tet near B reaches past it by part of a
+// cell, and the pieces' outer faces lie on B): it goes to the nearest piece. Otherwise throws,
+// for the first such tet (lowest index).
 void resolve_uncovered(const TetSet& set, std::vector<Label>& labels, const PieceTrees& trees, const Bvh& exterior,
                        const std::string& file, const FitOptions& o, double diagonal) {
   for (std::size_t t = 0; t < labels.size(); ++t) {
