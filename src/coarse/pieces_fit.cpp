@@ -218,7 +218,8 @@ struct Lattice {
   std::vector<Label> labels;  // as sampled
   std::vector<int> label;     // cleaned
   std::size_t relabelled = 0;
-  bool finer_helps = false;  // a piece got no tet, though its volume would fill one of the lattice's tets
+  std::size_t empty = 0;         // pieces that got no tet
+  bool finer_may_help = false;  // one of them has the volume of one of the lattice's tets
 };
 
 Lattice label_lattice(const MeshSoup& exterior, const std::string& exterior_file, const Bvh& b, const PieceTrees& trees,
@@ -234,7 +235,10 @@ Lattice label_lattice(const MeshSoup& exterior, const std::string& exterior_file
   std::vector<bool> seen(volume.size(), false);
   for (int x : l.label) seen[x] = true;
   const double cell = diagonal / o.cells_per_diagonal;
-  for (std::size_t p = 0; p < volume.size(); ++p) l.finer_helps = l.finer_helps || (!seen[p] && volume[p] >= cell * cell * cell / 8.0);
+  for (std::size_t p = 0; p < volume.size(); ++p) {
+    l.empty += !seen[p];
+    l.finer_may_help = l.finer_may_help || (!seen[p] && volume[p] >= cell * cell * cell / 8.0);
+  }
   return l;
 }
 
@@ -252,9 +256,13 @@ CoarseModel fit_pieces_model(const MeshSoup& exterior, const std::string& exteri
   for (const PieceInput& p : pieces) volume.push_back(std::abs(signed_volume(p.positions, p.triangles)));
   FitOptions level = o;
   Lattice l = label_lattice(exterior, exterior_file, b, trees, volume, file, level, diagonal);
-  while (l.finer_helps && 2.0 * level.cells_per_diagonal <= o.max_cells_per_diagonal) {
-    level.cells_per_diagonal *= 2.0;
-    l = label_lattice(exterior, exterior_file, b, trees, volume, file, level, diagonal);
+  // Finer while it may help and helped the last time; the coarser lattice when it did not.
+  while (l.finer_may_help && 2.0 * level.cells_per_diagonal <= o.max_cells_per_diagonal) {
+    FitOptions finer = level;
+    finer.cells_per_diagonal *= 2.0;
+    Lattice f = label_lattice(exterior, exterior_file, b, trees, volume, file, finer, diagonal);
+    if (f.empty >= l.empty) break;
+    l = std::move(f), level = finer;
   }
   PiecesFit fit;
   fit.cell = diagonal / level.cells_per_diagonal;

@@ -24,7 +24,7 @@ struct FitOptions {
   double tolerance = 0.005;
   /// Lattice cell = B's bounding-box diagonal / this (scene key fracture.cells_per_diagonal),
   /// doubled, up to max_cells_per_diagonal, while a piece gets no tet though its volume is at
-  /// least an eighth of the cell's.
+  /// least an eighth of the cell's, as long as doubling leaves fewer pieces without a tet.
   double cells_per_diagonal = 24.0;
   double max_cells_per_diagonal = 128.0;
   /// Isosurface stuffing: a lattice vertex closer to B than this fraction of an edge snaps onto B.
@@ -39,8 +39,9 @@ struct FitOptions {
 /// Builds the coarse model of `pieces` by labelling B's inside (see the file comment), then
 /// cleaning the labels up: stray islands merged (island_fraction), edges S cannot represent
 /// untangled (coarse/fit_labels.hpp). While a piece of at least an eighth of a cell's volume gets no
-/// tet the lattice's cell is halved (up to max_cells_per_diagonal); a piece that still has none
-/// then gets the one tet nearest it (model.fit.grown). Piece i of the model is pieces[i] (named by it); a label that
+/// tet the lattice's cell is halved (up to max_cells_per_diagonal, and only while that leaves
+/// fewer pieces without a tet); a piece that still has none then gets the one tet nearest it
+/// (model.fit.grown). Piece i of the model is pieces[i] (named by it); a label that
 /// still falls into several parts gets further pieces named "<name>, part k", as
 /// build_tet_model() does. model.fit records the reason, the tolerance, the cell, the gap and
 /// overlap volumes found and the clean-ups.

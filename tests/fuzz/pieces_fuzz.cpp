@@ -34,6 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::vector<PieceInput> pieces = read_pieces(path);
     FitOptions o;
     o.cells_per_diagonal = 6;
+    o.max_cells_per_diagonal = 12;
     o.tolerance = 0.1;
     build_pieces_or_fit(box_around(pieces), "box.obj", pieces, {}, o);
   });
