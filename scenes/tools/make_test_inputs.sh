@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates tests/data/inputs/ (coarse inputs made with other tools, issue 30) with Debian 12's
-# blender (3.4.1, its Cell Fracture add-on), gmsh (4.8.4) and tetgen (1.6.0):
+# blender (3.4.1, its Cell Fracture add-on), gmsh (4.8.4) and tetgen (1.5.0):
 #   apt-get install -y blender gmsh tetgen
 #   scenes/tools/make_test_inputs.sh [BUNNY_OBJ]     (default .cache/bunny.obj, what .ci/setup fetches)
 # Each step's exact command is in scenes/INPUTS.md, "Inputs from other tools". The outputs are
