@@ -43,6 +43,16 @@ TEST(CliBench, KernelsOnlyWritesOneEntryPerKernelSizeAndBackend) {
   EXPECT_NE(r.out.find("cpu ms"), std::string::npos) << r.out;
 }
 
+TEST(CliBench, KernelsOnlyMarkdownNamesTheCommandAsGiven) {
+  TempDir t;
+  const auto md_file = t.path / "k.md";
+  auto r = run("bench --kernels-only --backends cpu --repeat 2 --kernel-sizes 400 -q --markdown " + md_file.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string md = slurp(md_file);
+  EXPECT_NE(md.find("`fracref bench --backends cpu --repeat 2 --kernels-only --kernel-sizes 400`"), std::string::npos) << md;
+  EXPECT_EQ(md.find("--scenes"), std::string::npos) << md;
+}
+
 TEST(CliBench, ScenesWithoutVulkanSayWhyAndTheCpuStillRuns) {
   TempDir t;
   const auto file = t.path / "bench.json";

@@ -2,6 +2,9 @@
 // completed by virtual fracture and cut into two pieces end to end.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
@@ -30,25 +33,32 @@ TEST(CliCuts, AHalfwayCutBecomesTwoPieces) {
   ASSERT_EQ(r.code, 0) << r.err;
   std::string text = slurp(t.path / "out" / "report.json");
   auto report = nlohmann::json::parse(text);
-  EXPECT_EQ(report["coarse_triangles"], 540) << text;  // as in scenes/INPUTS.md, "Exterior plus cuts"
+  EXPECT_EQ(report["coarse_triangles"], 554) << text;  // as in scenes/INPUTS.md, "Exterior plus cuts"
   EXPECT_EQ(report["pieces"], 2) << text;
   EXPECT_EQ(report["pieces_ok"], true) << text;
 }
 
-TEST(CliCuts, ACutSmallerThanTheDefaultCellWorksWithAFinerLattice) {
+TEST(CliCuts, ACutSmallerThanTheFirstCellGetsAFinerLattice) {
   TempDir t;
   t.write("cube.obj", kCube);
-  // A small disc-like cut near a corner: at the default 24 cells per diagonal it crosses no tet
-  // face; with 96 it does and is completed into a corner piece.
+  // A small disc-like cut near a corner: at 24 cells per diagonal it crosses no tet face; the
+  // automatic lattice (no cells_per_diagonal) refines until it does, 96 does too.
   t.write("small.obj", "v 0.2 0.02 0.02\nv 0.2 0.02 0.06\nv 0.2 0.06 0.06\nv 0.2 0.06 0.02\nf 1 2 3 4\n");
   const std::string scene = R"({"exterior": "cube.obj", "fracture": {"kind": "cuts", "mesh": "small.obj"CELLS},
     "field": {"type": "marble", "resolution": [8, 8, 8]}, "refine": {"max_iterations": 2, "max_triangles": 20000}})";
-  auto coarse = t.write("coarse.json", std::string(scene).replace(scene.find("CELLS"), 5, ""));
-  auto r = run("refine " + coarse.string() + " -o " + (t.path / "coarse").string() + " --backend cpu --stop-after preprocess");
+  auto at = [&](const std::string& name, const std::string& cells) {
+    return t.write(name, std::string(scene).replace(scene.find("CELLS"), 5, cells));
+  };
+  auto r = run("refine " + at("coarse.json", R"(, "cells_per_diagonal": 24)").string() + " -o " +
+               (t.path / "coarse").string() + " --backend cpu --stop-after preprocess");
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("small.obj: cut 1 of 1"), std::string::npos) << r.err;
-  auto fine = t.write("fine.json", std::string(scene).replace(scene.find("CELLS"), 5, R"(, "cells_per_diagonal": 96)"));
-  r = run("refine " + fine.string() + " -o " + (t.path / "fine").string() + " --backend cpu --stop-after preprocess -q");
+  EXPECT_NE(r.err.find("at 24 cells per diagonal"), std::string::npos) << r.err;
+  r = run("refine " + at("auto.json", "").string() + " -o " + (t.path / "auto").string() +
+          " --backend cpu --stop-after preprocess -q");
+  EXPECT_EQ(r.code, 0) << r.err;
+  r = run("refine " + at("fine.json", R"(, "cells_per_diagonal": 96)").string() + " -o " + (t.path / "fine").string() +
+          " --backend cpu --stop-after preprocess -q");
   EXPECT_EQ(r.code, 0) << r.err;
 }
 
@@ -61,4 +71,32 @@ TEST(CliCuts, ACutOutsideIsRefusedNamingTheFile) {
   auto r = run("refine " + s.string() + " -o " + (t.path / "out").string() + " --backend cpu");
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("far.obj: cut 1 of 1"), std::string::npos) << r.err;
+}
+
+// An oblique disc inside the cube (it stops 0.2 short of the faces) goes end to end as two
+// pieces that `fracref check` accepts; it used to stop with "the coarse fracture surface is
+// invalid", exit 2, as if the input were bad.
+TEST(CliCuts, AnObliqueDiscInsideTheCubeGoesEndToEnd) {
+  TempDir t;
+  t.write("cube.obj", kCube);
+  std::string disc = "v 0.52 0.47 0.5\n";
+  const glm::dvec3 c(0.52, 0.47, 0.5), n = glm::normalize(glm::dvec3(0.3, 0.5, 0.81));
+  const glm::dvec3 u = glm::normalize(glm::cross(n, glm::dvec3(1, 0, 0))), v = glm::cross(n, u);
+  for (int s = 0; s < 16; ++s) {
+    const double a = 2.0 * M_PI * s / 16;
+    const glm::dvec3 p = c + 0.25 * (std::cos(a) * u + std::sin(a) * v);
+    disc += "v " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+  }
+  for (int s = 0; s < 16; ++s) disc += "f 1 " + std::to_string(2 + s) + " " + std::to_string(2 + (s + 1) % 16) + "\n";
+  t.write("disc.obj", disc);
+  auto s = t.write("scene.json", R"({"exterior": "cube.obj", "fracture": {"kind": "cuts", "mesh": "disc.obj"},
+    "field": {"type": "marble", "resolution": [16, 16, 16]}, "refine": {"max_iterations": 3, "max_triangles": 4000}})");
+  const std::string out = (t.path / "out").string();
+  auto r = run("refine " + s.string() + " -o " + out + " --backend cpu -q",
+               "VK_ICD_FILENAMES=/nonexistent VK_DRIVER_FILES=/nonexistent");
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto report = nlohmann::json::parse(slurp(t.path / "out" / "report.json"));
+  EXPECT_EQ(report["pieces"], 2);
+  r = run("check " + out);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
 }

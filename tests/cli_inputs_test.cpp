@@ -83,8 +83,8 @@ TEST(CliInputs, CellFractureCubeEndToEnd) {
 
 TEST(CliInputs, CellFractureBunnyWithRigidTransformsEndToEnd) {
   // The add-on's defaults: 10 pieces, one a sliver thinner than the cell (grown to one tet).
-  // At the default 24 cells per diagonal (halved to 48) the pieces stage fails after the
-  // refinement (issue 30 report); 32 goes through.
+  // 32 cells per diagonal: at the default (24, halved to 48) the pieces stage fails after the
+  // refinement on the bunny's margin-0 pieces (cf_bunny_tri, cf_bunny_ngon; issue 30 report).
   TempDir t;
   refine_and_check(kInputs / "cf_bunny_default.json", t.path / "bunny", " --set fracture.cells_per_diagonal=32");
   const auto report = report_of(t.path / "bunny");

@@ -160,7 +160,7 @@ TEST(ParseScene, OtherVariants) {
   EXPECT_EQ(t.animation.fps, 24.0);
   const Scene c = parse_patched(R"({"fracture": {"kind": "cuts", "mesh": "cuts.obj"}})");
   EXPECT_EQ(c.fracture.kind, FractureKind::cuts);
-  EXPECT_EQ(c.fracture.cells_per_diagonal, 24.0);
+  EXPECT_EQ(c.fracture.cells_per_diagonal, 0.0);  // automatic
   const Scene pf = parse_patched(R"({"fracture": {"kind": "pieces", "mesh": "p.obj", "tolerance": 0.02, "cells_per_diagonal": 40}})");
   EXPECT_EQ(pf.fracture.tolerance, 0.02);
   EXPECT_EQ(pf.fracture.cells_per_diagonal, 40.0);

@@ -54,9 +54,12 @@ std::string command_line(const BenchCliOptions& o) {
   std::vector<std::string> backends;  // as given: check_options() appends a "cpu:N" per --threads entry
   for (const std::string& b : o.backends)
     if (b.rfind("cpu:", 0) != 0) backends.push_back(b);
-  std::string c = "fracref bench --scenes " + join(o.scenes) + " --backends " + join(backends);
+  std::string c = "fracref bench";
+  if (!o.kernels_only) c += " --scenes " + join(o.scenes);
+  c += " --backends " + join(backends);
   if (!o.threads.empty()) c += " --threads " + join(o.threads);
-  c += " --repeat " + std::to_string(o.repeat) + " --stop-after " + o.stop_after;
+  c += " --repeat " + std::to_string(o.repeat);
+  if (!o.kernels_only) c += " --stop-after " + o.stop_after;
   if (o.kernels_only) c += " --kernels-only";
   if (o.no_kernels) c += " --no-kernels";
   if (!o.no_kernels) c += " --kernel-sizes " + join(o.kernel_sizes);

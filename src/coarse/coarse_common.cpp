@@ -127,10 +127,10 @@ void assemble_surface(CoarseModel& model, const std::vector<SurfaceFace>& faces,
   try {
     model.surface = make_fracture_surface(std::move(positions), std::move(tris), std::move(pieces), model.piece_count);
   } catch (const InputError& e) {
-    throw InputError(source + ": the coarse fracture surface is invalid: " + e.what());
+    throw InvalidSurfaceError(source + ": the coarse fracture surface is invalid: " + e.what());
   }
   const std::string broken = validate(model.surface);
-  if (!broken.empty()) throw InputError(source + ": the coarse fracture surface is invalid: " + broken);
+  if (!broken.empty()) throw InvalidSurfaceError(source + ": the coarse fracture surface is invalid: " + broken);
   model.surface_to_model_vertex = std::move(used);
   model.surface_copy_model_vertex = copy_model_vertices(model.surface, faces, to_surface);
 }

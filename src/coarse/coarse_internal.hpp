@@ -60,9 +60,17 @@ struct SurfaceFace {
   glm::uvec3 front_model, back_model;
 };
 
+/// The InputError of assemble_surface() when S is invalid: a builder whose tets it made itself
+/// (the cuts input) turns it into an internal error.
+class InvalidSurfaceError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 /// Fills model.surface, surface_to_model_vertex and surface_copy_model_vertex from `faces`
 /// (model.vertices, vertex_weld and piece_count must be set), then validates S.
-/// \throw InputError "<source>: the coarse fracture surface is invalid: ..." when validate() fails.
+/// \throw InvalidSurfaceError "<source>: the coarse fracture surface is invalid: ..." when
+///        validate() fails.
 void assemble_surface(CoarseModel& model, const std::vector<SurfaceFace>& faces, const std::string& source);
 
 /// Sorted copy of a triangle's corners (a face's key independent of winding).

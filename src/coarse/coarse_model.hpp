@@ -44,7 +44,7 @@ struct PiecesFit {
   double overlap_volume = 0.0;  ///< volume of the tets whose centre lies in two or more pieces
   double pieces_volume = 0.0;   ///< sum of the pieces' own (signed) volumes
   double exterior_volume = 0.0; ///< B's volume
-  std::size_t tets_relabelled = 0;  ///< by the clean-ups: stray islands merged, hull edges untangled
+  std::size_t tets_relabelled = 0;  ///< by the clean-ups: stray islands merged, wedges S cannot represent relabelled
   std::vector<std::string> grown;   ///< pieces thinner than the cell, given the one tet nearest them
 };
 

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
-#include <tuple>
 
 #include "coarse/coarse_internal.hpp"
 #include "coarse/fit_labels.hpp"
@@ -134,55 +133,50 @@ void name_pieces(CoarseModel& m, const std::vector<PieceInput>& pieces) {
   }
 }
 
-// Per tet, its face neighbours (UINT32_MAX: none).
-std::vector<std::array<std::uint32_t, 4>> tet_neighbours(std::size_t tets, const InteriorFaces& faces) {
-  std::vector<std::array<std::uint32_t, 4>> n(tets, {UINT32_MAX, UINT32_MAX, UINT32_MAX, UINT32_MAX});
-  auto add = [&](std::uint32_t t, std::uint32_t u) { *std::find(n[t].begin(), n[t].end(), UINT32_MAX) = u; };
-  for (const glm::uvec2& f : faces.tets) add(f.x, f.y), add(f.y, f.x);
-  return n;
-}
-
-// The tet piece p takes when it got none: near its box, whose label keeps other tets; first those
-// whose neighbours share their label, then those away from the hull, then inside p or nearest
-// it (ties to the lowest tet).
-std::int64_t nearest_tet(const TetSet& set, const std::vector<std::array<std::uint32_t, 4>>& near, const PieceTrees& trees,
-                         std::size_t p, const std::vector<int>& label, const std::vector<std::size_t>& count, double cell,
-                         const std::vector<bool>& hull) {
+// The tet piece p takes when it got none: near its box, whose label keeps other tets; first one
+// deep inside one label (deep_in_one_label), then inside p or nearest it (ties to the lowest tet).
+std::int64_t nearest_tet(const TetSet& set, const std::vector<bool>& deep, const PieceTrees& trees, std::size_t p,
+                         const std::vector<int>& label, const std::vector<std::size_t>& count, double cell) {
   std::int64_t best = -1;
-  std::tuple<bool, bool, double> best_key{true, true, INFINITY};
+  std::pair<bool, double> best_key{true, INFINITY};
   for (std::size_t t = 0; t < set.tets.size(); ++t) {
     const glm::dvec3 c = centroid(set, t);
     const Aabb& b = trees.box[p];
     if (glm::any(glm::lessThan(c, b.lo - cell)) || glm::any(glm::greaterThan(c, b.hi + cell)) || count[label[t]] < 2) continue;
-    bool mixed = false;
-    for (std::uint32_t u : near[t]) mixed = mixed || (u != UINT32_MAX && label[u] != label[t]);
     const double d = winding_number(trees.piece[p], c) >= 0.5 ? 0.0 : closest_point(trees.piece[p], c).squared_distance;
-    if (std::make_tuple(mixed, bool(hull[t]), d) < best_key) best_key = {mixed, hull[t], d}, best = std::int64_t(t);
+    if (std::make_pair(!deep[t], d) < best_key) best_key = {!deep[t], d}, best = std::int64_t(t);
   }
   return best;
 }
 
 // Every piece holds a tet: one thinner than the cell takes the tet nearest it (named in
-// fit.grown). Returns the tets given.
-std::vector<std::uint32_t> grow_empty_pieces(const TetSet& set, const InteriorFaces& faces, const PieceTrees& trees,
-                                             const std::vector<PieceInput>& pieces, std::vector<int>& label, PiecesFit& fit) {
-  std::vector<std::uint32_t> grown;
+// fit.grown). When a tet had to be taken where pieces meet, the fans are cleaned again, and a
+// piece that loses its tet to that is an error.
+void grow_empty_pieces(const TetSet& set, const PieceTrees& trees, const std::vector<PieceInput>& pieces,
+                       std::vector<int>& label, PiecesFit& fit) {
   std::vector<std::size_t> count(pieces.size(), 0);
   for (int l : label) ++count[l];
-  const auto near = tet_neighbours(set.tets.size(), faces);
-  const std::vector<bool> hull = touches_hull(set);
+  bool shallow = false;
   for (std::size_t p = 0; p < pieces.size(); ++p) {
     if (count[p] > 0) continue;
-    const std::int64_t t = nearest_tet(set, near, trees, p, label, count, fit.cell, hull);
+    const std::vector<bool> deep = deep_in_one_label(set, label);
+    const std::int64_t t = nearest_tet(set, deep, trees, p, label, count, fit.cell);
     if (t < 0)
       throw InputError(pieces[p].file + ": piece '" + pieces[p].name + "' holds no tet of the exterior's lattice (cell " +
                        number_text(fit.cell) + "): it lies outside the exterior");
+    shallow = shallow || !deep[t];
     --count[label[t]], ++count[p];
     label[t] = int(p);
     fit.grown.push_back(pieces[p].name);
-    grown.push_back(std::uint32_t(t));
   }
-  return grown;
+  if (!shallow) return;
+  fit.tets_relabelled += clean_fans(set, label);
+  std::fill(count.begin(), count.end(), 0);
+  for (int l : label) ++count[l];
+  for (std::size_t p = 0; p < pieces.size(); ++p)
+    if (count[p] == 0)
+      throw InputError(pieces[p].file + ": piece '" + pieces[p].name + "' is thinner than the exterior's lattice cell (" +
+                       number_text(fit.cell) + ") where other pieces meet; raise fracture.cells_per_diagonal");
 }
 
 void check_exterior(const MeshSoup& exterior, const std::string& file) {
@@ -230,8 +224,14 @@ Lattice label_lattice(const MeshSoup& exterior, const std::string& exterior_file
   resolve_uncovered(l.set, l.labels, trees, b, file, o, diagonal);
   for (const Label& x : l.labels) l.label.push_back(x.piece);
   l.faces = interior_faces(l.set);
-  l.relabelled = merge_islands(l.set.tets.size(), l.faces, l.label, o.island_fraction);
-  l.relabelled += untangle_edges(l.set, l.label, std::vector<bool>(l.set.tets.size(), false));
+  // Cleaning fans may leave strays and merging strays may leave bad fans: in turn while either
+  // moves a tet (4 rounds at most), fans last.
+  for (int round = 0; round < 4; ++round) {
+    const std::size_t merged = merge_islands(l.set.tets.size(), l.faces, l.label, o.island_fraction);
+    const std::size_t cleaned = clean_fans(l.set, l.label);
+    l.relabelled += merged + cleaned;
+    if (merged + cleaned == 0) break;
+  }
   std::vector<bool> seen(volume.size(), false);
   for (int x : l.label) seen[x] = true;
   const double cell = diagonal / o.cells_per_diagonal;
@@ -267,9 +267,7 @@ CoarseModel fit_pieces_model(const MeshSoup& exterior, const std::string& exteri
   PiecesFit fit;
   fit.cell = diagonal / level.cells_per_diagonal;
   fit.tets_relabelled = l.relabelled;
-  std::vector<bool> locked(l.set.tets.size(), false);
-  for (const std::uint32_t t : grow_empty_pieces(l.set, l.faces, trees, pieces, l.label, fit)) locked[t] = true;
-  if (!fit.grown.empty()) fit.tets_relabelled += untangle_edges(l.set, l.label, locked);
+  grow_empty_pieces(l.set, trees, pieces, l.label, fit);
   TetMesh mesh{file, l.set.positions, l.set.tets, std::vector<std::int64_t>(l.label.begin(), l.label.end()), {}};
   TetModelOptions to;
   to.own_vertices = o.own_vertices;

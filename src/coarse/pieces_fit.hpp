@@ -37,8 +37,8 @@ struct FitOptions {
 };
 
 /// Builds the coarse model of `pieces` by labelling B's inside (see the file comment), then
-/// cleaning the labels up: stray islands merged (island_fraction), edges S cannot represent
-/// untangled (coarse/fit_labels.hpp). While a piece of at least an eighth of a cell's volume gets no
+/// cleaning the labels up: stray islands merged (island_fraction), wedges S cannot represent at
+/// an edge relabelled (clean_label_fans(), as for cuts). While a piece of at least an eighth of a cell's volume gets no
 /// tet the lattice's cell is halved (up to max_cells_per_diagonal, and only while that leaves
 /// fewer pieces without a tet); a piece that still has none then gets the one tet nearest it
 /// (model.fit.grown). Piece i of the model is pieces[i] (named by it); a label that

@@ -2,6 +2,7 @@
 // the pieces partitioning B (volumes, random inside points).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "geom/bvh.hpp"
@@ -73,6 +74,25 @@ void check_edges(const std::vector<Tri>& triangles, PieceCheck& check, std::vect
                   " edges used twice in one direction, e.g. " + misoriented + ")");
 }
 
+// "fracture triangle 12 (S vertices 3, 4, 9) near (x, y, z)" or "exterior triangle ...".
+std::string describe(const PieceSet& set, const PieceSet::Piece& piece, std::size_t t, const CompactMesh& mesh) {
+  const auto& tri = piece.triangles[t];
+  std::string ids;
+  for (std::uint32_t v : tri) {
+    const std::int64_t o = set.vertex_origin[v];
+    const std::string name = o >= 0 ? "S " + std::to_string(o)
+                             : o == kCrossing ? "crossing " + std::to_string(v)
+                             : o == kRoutePoint ? "route point " + std::to_string(v)
+                             : o == kFaceCentre ? "face centre " + std::to_string(v)
+                                                : "B " + std::to_string(-1 - o);
+    ids += (ids.empty() ? "" : ", ") + name;
+  }
+  const glm::dvec3 c = (mesh.positions[mesh.triangles[t][0]] + mesh.positions[mesh.triangles[t][1]] + mesh.positions[mesh.triangles[t][2]]) / 3.0;
+  char at[96];
+  std::snprintf(at, sizeof at, "(%.6g, %.6g, %.6g)", c.x, c.y, c.z);
+  return std::string(piece.inside[t] ? "fracture" : "exterior") + " triangle " + std::to_string(t) + " (vertices " + ids + ") near " + at;
+}
+
 PieceCheck check_piece(const PieceSet& set, std::size_t p, const CompactMesh& mesh, const PieceCheckOptions& options,
                        std::vector<std::string>& failures) {
   const PieceSet::Piece& piece = set.pieces[p];
@@ -92,8 +112,8 @@ PieceCheck check_piece(const PieceSet& set, std::size_t p, const CompactMesh& me
     check.self_intersections = pairs.size();
     if (!pairs.empty())
       why.push_back(std::to_string(pairs.size()) + (pairs.size() >= so.max_report ? " or more" : "") +
-                    " pairs of intersecting faces, e.g. triangles " + std::to_string(pairs[0].first) + " and " +
-                    std::to_string(pairs[0].second));
+                    " pairs of intersecting faces, e.g. " + describe(set, piece, pairs[0].first, mesh) + " and " +
+                    describe(set, piece, pairs[0].second, mesh));
   } catch (const InputError& e) {
     why.push_back(std::string("degenerate: ") + e.what());
   }

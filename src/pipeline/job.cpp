@@ -59,7 +59,7 @@ CoarseModel load_pieces_scene(const Scene& scene) {
   const FractureSpec& f = scene.fracture;
   FitOptions o;
   o.tolerance = f.tolerance;
-  o.cells_per_diagonal = f.cells_per_diagonal;
+  if (f.cells_per_diagonal > 0.0) o.cells_per_diagonal = f.cells_per_diagonal;  // 0: automatic, FitOptions' default
   o.own_vertices = scene.animation.kind == AnimationKind::rigid;
   const std::vector<PieceInput> pieces = f.files.empty() ? read_pieces(f.mesh) : read_pieces(f.files);
   CoarseModel m = build_pieces_or_fit(read_mesh(scene.exterior), scene.exterior.string(), pieces, {}, o);

@@ -67,7 +67,7 @@ FractureSpec read_fracture(ObjectReader r, const fs::path& dir) {
   }
   f.virtual_fracture = r.boolean("virtual_fracture", true);
   if (f.kind != FractureKind::tets) {
-    f.cells_per_diagonal = r.number("cells_per_diagonal", f.cells_per_diagonal, Range::closed(4.0, 128.0));
+    f.cells_per_diagonal = r.number("cells_per_diagonal", 0.0, Range::closed(4.0, 128.0));
   } else {
     r.forbid("cells_per_diagonal", "only allowed when kind is 'cuts' or 'pieces'");
   }
