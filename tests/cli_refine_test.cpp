@@ -59,6 +59,26 @@ TEST(CliRefine, SmallSceneRunsOnTheCpuBackendWithoutVulkan) {
   for (auto& e : fs::directory_iterator(t.path)) EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos);
 }
 
+// --backend auto without a Vulkan driver falls back to the CPU backend and says why, after the
+// run; a run that fails says one thing, its error.
+TEST(CliRefine, BackendAutoSaysWhyOnlyWhenTheRunSucceeds) {
+  TempDir t;
+  t.write("cube.obj", kCube);
+  t.write("cube.mesh", cube_mesh(2));
+  auto s = t.write("scene.json", scene(""));
+  const std::string no_vulkan = "VK_ICD_FILENAMES=/nonexistent VK_DRIVER_FILES=/nonexistent";
+  auto ok = run("refine " + s.string() + " -o " + (t.path / "out").string() + " --stop-after refine", no_vulkan);
+  ASSERT_EQ(ok.code, 0) << ok.err;
+  EXPECT_EQ(ok.err.rfind("fracref: backend auto -> cpu (", 0), 0u) << ok.err;
+  EXPECT_EQ(std::count(ok.err.begin(), ok.err.end(), '\n'), 2) << ok.err;
+  t.write("cube.mesh", "MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 0 nan 0\nEnd\n");
+  auto bad = run("refine " + s.string() + " -o " + (t.path / "bad").string(), no_vulkan);
+  EXPECT_NE(bad.code, 0);
+  EXPECT_EQ(bad.err.find("backend auto"), std::string::npos) << bad.err;
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+  EXPECT_FALSE(fs::exists(t.path / "bad"));
+}
+
 TEST(CliRefine, SameSeedSameBytes) {
   TempDir t;
   t.write("cube.obj", kCube);

@@ -161,6 +161,10 @@ TEST(ParseScene, OtherVariants) {
   const Scene c = parse_patched(R"({"fracture": {"kind": "cuts", "mesh": "cuts.obj"}})");
   EXPECT_EQ(c.fracture.kind, FractureKind::cuts);
   EXPECT_EQ(c.fracture.cells_per_diagonal, 0.0);  // automatic
+  const Scene pf = parse_patched(R"({"fracture": {"kind": "pieces", "mesh": "p.obj", "tolerance": 0.02, "cells_per_diagonal": 40}})");
+  EXPECT_EQ(pf.fracture.tolerance, 0.02);
+  EXPECT_EQ(pf.fracture.cells_per_diagonal, 40.0);
+  EXPECT_EQ(parse_patched(R"({"fracture": {"kind": "pieces", "mesh": "p.obj"}})").fracture.tolerance, 0.005);
   EXPECT_EQ(parse_patched(R"({"fracture": {"kind": "cuts", "mesh": "c.obj", "cells_per_diagonal": 60}})").fracture.cells_per_diagonal,
             60.0);
   const Scene p = parse_patched(R"({"fracture": {"kind": "pieces", "mesh": "pieces.obj"}})");
@@ -355,7 +359,13 @@ TEST(SceneErrors, InconsistentKeys) {
   EXPECT_EQ(patched_error(R"({"fracture": {"kind": "cuts", "cracks": "c.txt"}})"),
             "/jobs/bunny/scene.json: key 'fracture.cracks': only allowed when kind is 'tets'");
   EXPECT_EQ(patched_error(R"({"fracture": {"cells_per_diagonal": 30}})"),
-            "/jobs/bunny/scene.json: key 'fracture.cells_per_diagonal': only allowed when kind is 'cuts'");
+            "/jobs/bunny/scene.json: key 'fracture.cells_per_diagonal': only allowed when kind is 'cuts' or 'pieces'");
+  EXPECT_EQ(patched_error(R"({"fracture": {"tolerance": 0.01}})"),
+            "/jobs/bunny/scene.json: key 'fracture.tolerance': only allowed when kind is 'pieces'");
+  EXPECT_EQ(patched_error(R"({"fracture": {"kind": "pieces", "mesh": "p.obj", "tolerance": 0.5}})"),
+            "/jobs/bunny/scene.json: key 'fracture.tolerance': must be in (0, 0.1], got 0.5");
+  EXPECT_EQ(patched_error(R"({"fracture": {"kind": "pieces", "mesh": "p.obj", "tolerance": 0}})"),
+            "/jobs/bunny/scene.json: key 'fracture.tolerance': must be in (0, 0.1], got 0");
   EXPECT_NE(patched_error(R"({"fracture": {"kind": "cuts", "mesh": "c.obj", "cells_per_diagonal": 1e308}})")
                 .find("key 'fracture.cells_per_diagonal'"),
             std::string::npos);

@@ -30,7 +30,8 @@ int run_scene(const Scene& scene, const JobCliOptions& o, const fs::path* extra_
   jo.stop_after = parse_stage(o.stop_after);
   jo.seed = o.seed;
   if (o.preview_frames > 0) jo.preview_frames = o.preview_frames;
-  std::unique_ptr<ComputeBackend> backend = make_backend(o.backend, o.quiet);
+  std::string backend_note;
+  std::unique_ptr<ComputeBackend> backend = make_backend(o.backend, backend_note);
   StagedDirectory out(o.output);
   ProgressLine line(!o.quiet && stderr_is_terminal());
   std::string current_stage;
@@ -44,6 +45,7 @@ int run_scene(const Scene& scene, const JobCliOptions& o, const fs::path* extra_
   set_activity("writing " + o.output);
   out.commit();
   if (!o.quiet) {
+    if (!backend_note.empty()) std::cerr << "fracref: " << backend_note << "\n";
     std::cerr << "fracref: " << scene.name << ": ";
     if (report.contains("refined_triangles"))
       std::cerr << report["coarse_triangles"] << " -> " << report["refined_triangles"] << " triangles, ";

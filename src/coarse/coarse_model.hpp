@@ -28,8 +28,25 @@
 
 #include "io/mesh_soup.hpp"
 #include "surface/fracture_surface.hpp"
+#include "util/error.hpp"
 
 namespace fracref {
+
+/// How pieces that do not conform exactly were fitted (src/coarse/pieces_fit.hpp); all zero and
+/// `fitted` false for every other input, and for pieces that conform.
+struct PiecesFit {
+  bool fitted = false;          ///< S is the label boundary of a tet lattice of B (not the pieces' own faces)
+  std::string reason;           ///< why the exact path refused the pieces (its message)
+  double tolerance = 0.0;       ///< widest gap closed, scene units
+  double cell = 0.0;            ///< the lattice's cell, scene units
+  std::size_t tets = 0;         ///< tets of the lattice inside B
+  double gap_volume = 0.0;      ///< volume of the tets whose centre lies in no piece (assigned to the nearest)
+  double overlap_volume = 0.0;  ///< volume of the tets whose centre lies in two or more pieces
+  double pieces_volume = 0.0;   ///< sum of the pieces' own (signed) volumes
+  double exterior_volume = 0.0; ///< B's volume
+  std::size_t tets_relabelled = 0;  ///< by the clean-ups: stray islands merged, wedges S cannot represent relabelled
+  std::vector<std::string> grown;   ///< pieces thinner than the cell, given the one tet nearest them
+};
 
 /// The coarse model, whatever input it came from.
 struct CoarseModel {
@@ -55,6 +72,7 @@ struct CoarseModel {
   double virtual_area_added = 0.0;       ///< area of the faces cut by virtual fracture
   std::size_t virtual_faces_added = 0;   ///< faces cut by virtual fracture
   std::size_t inverted_fixed = 0;        ///< tets (or pieces) given inside out and reoriented
+  PiecesFit fit;                         ///< pieces fitted on a lattice (pieces_fit.hpp), or not
 };
 
 // ------------------------------------------------------------------------------------------------
@@ -122,6 +140,14 @@ struct PieceInput {
   std::vector<std::uint32_t> triangle_polygon;  ///< per triangle, its polygon (fan) in the piece, from 0
 };
 
+/// The pieces are well formed but do not conform exactly (degenerate, open or non-manifold
+/// faces, cut faces that do not match, a repeated or overlapping face): build_pieces_model()
+/// throws it where fit_pieces_model() (pieces_fit.hpp) can still make a fracture surface.
+class PiecesMismatch : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 struct PiecesOptions {
   /// Positions of different pieces closer than this fraction of the bounding-box diagonal (per
   /// coordinate) are the same point. 1e-9 suits double-precision exports; files written with 6
@@ -138,18 +164,28 @@ struct PiecesOptions {
 /// on the same welded vertices with opposite winding are a cut: one face of S (the smaller
 /// piece's triangulation). Faces matching no other piece are the hull.
 /// Model vertices are one per (piece, welded position), pieces in order, then by first use.
-/// \throw InputError naming the file and piece for: no piece, an empty piece, a degenerate face,
-///        an open or inconsistently wound piece, zero volume, a face repeated in a piece, a cut
+/// \throw InputError naming the file and piece for: no piece, an empty piece, an index out of
+///        range, a non-finite position;
+/// \throw PiecesMismatch (an InputError) naming the file and piece for: a degenerate face, an
+///        open or inconsistently wound piece, zero volume, a face repeated in a piece, a cut
 ///        face shared by 3+ pieces or wound the same way in two, and a NON-CONFORMING cut: a face
 ///        of one piece whose interior overlaps, in its plane, a face of another piece it does not
 ///        match vertex for vertex (T-junction, partial overlap) - naming both pieces and the face.
 CoarseModel build_pieces_model(const std::vector<PieceInput>& pieces, const PiecesOptions& options = {});
 
-/// One OBJ (read_mesh) with one `o` or `g` group per piece.
-/// \throw InputError also when the file has no groups.
+/// The pieces of one OBJ (read_mesh) with one `o` or `g` group per piece, each piece's vertices
+/// compacted in first-use order and its polygons numbered from 0.
+/// \throw InputError as read_mesh, and when the file has no groups.
+std::vector<PieceInput> read_pieces(const std::filesystem::path& obj);
+
+/// One piece per mesh file (OBJ/OFF/PLY); groups inside a file are ignored.
+/// \throw InputError as read_mesh, and for an empty list.
+std::vector<PieceInput> read_pieces(const std::vector<std::filesystem::path>& files);
+
+/// build_pieces_model(read_pieces(obj)).
 CoarseModel load_pieces(const std::filesystem::path& obj, const PiecesOptions& options = {});
 
-/// One mesh file (OBJ/OFF/PLY) per piece; groups inside a file are ignored.
+/// build_pieces_model(read_pieces(files)).
 CoarseModel load_pieces(const std::vector<std::filesystem::path>& files, const PiecesOptions& options = {});
 
 }  // namespace fracref

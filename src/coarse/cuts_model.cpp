@@ -54,14 +54,7 @@ std::vector<std::uint32_t> cut_parts(const MeshSoup& cuts, std::uint32_t& count)
 }
 
 TetSet stuff_exterior(const MeshSoup& exterior, double cells_per_diagonal, const CutsOptions& o) {
-  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  for (const glm::dvec3& p : exterior.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  const double h = glm::length(hi - lo) / cells_per_diagonal;
-  LatticeSpec spec;
-  spec.lo = lo - 1.5 * h;
-  for (int a = 0; a < 3; ++a) spec.cells[a] = int(std::ceil((hi[a] - lo[a]) / h)) + 3;
-  spec.hi = spec.lo + h * glm::dvec3(spec.cells);
-  return stuffed_tets(exterior.positions, exterior.triangles, spec, o.warp);
+  return stuff_inside(exterior.positions, exterior.triangles, cells_per_diagonal, o.warp);
 }
 
 std::string cells_text(double cells) {

@@ -34,6 +34,7 @@ class PiecesBuilder {
  public:
   PiecesBuilder(const std::vector<PieceInput>& pieces, const PiecesOptions& options) : in_(pieces), options_(options) {}
   CoarseModel build();
+  CoarseModel build_checked();
 
  private:
   InputError piece_error(int p, const std::string& what) const {
@@ -307,6 +308,16 @@ void PiecesBuilder::check_conformity() const {
 
 CoarseModel PiecesBuilder::build() {
   check_input();
+  try {
+    return build_checked();
+  } catch (const PiecesMismatch&) {
+    throw;
+  } catch (const InputError& e) {
+    throw PiecesMismatch(e.what());  // well-formed pieces that do not conform: pieces_fit.hpp can fit them
+  }
+}
+
+CoarseModel PiecesBuilder::build_checked() {
   weld();
   m_.piece_count = int(in_.size());
   for (int p = 0; p < m_.piece_count; ++p) {
@@ -351,16 +362,16 @@ CoarseModel build_pieces_model(const std::vector<PieceInput>& pieces, const Piec
   return PiecesBuilder(pieces, options).build();
 }
 
-CoarseModel load_pieces(const std::filesystem::path& obj, const PiecesOptions& options) {
+std::vector<PieceInput> read_pieces(const std::filesystem::path& obj) {
   const MeshSoup soup = read_mesh(obj);
   if (soup.groups.empty())
     throw InputError(obj.string() + ": no 'o' or 'g' groups: a pieces file needs one group per piece");
   std::vector<PieceInput> pieces;
   for (std::uint32_t g = 0; g < soup.groups.size(); ++g) pieces.push_back(group_piece(soup, g, obj.string()));
-  return build_pieces_model(pieces, options);
+  return pieces;
 }
 
-CoarseModel load_pieces(const std::vector<std::filesystem::path>& files, const PiecesOptions& options) {
+std::vector<PieceInput> read_pieces(const std::vector<std::filesystem::path>& files) {
   if (files.empty()) throw InputError("pieces: no piece file given");
   std::vector<PieceInput> pieces;
   for (const auto& file : files) {
@@ -373,7 +384,15 @@ CoarseModel load_pieces(const std::vector<std::filesystem::path>& files, const P
     piece.triangle_polygon = std::move(soup.triangle_polygon);
     pieces.push_back(std::move(piece));
   }
-  return build_pieces_model(pieces, options);
+  return pieces;
+}
+
+CoarseModel load_pieces(const std::filesystem::path& obj, const PiecesOptions& options) {
+  return build_pieces_model(read_pieces(obj), options);
+}
+
+CoarseModel load_pieces(const std::vector<std::filesystem::path>& files, const PiecesOptions& options) {
+  return build_pieces_model(read_pieces(files), options);
 }
 
 }  // namespace fracref

@@ -3,6 +3,7 @@
 // exterior onto it, in the manner of isosurface stuffing (Labelle and Shewchuk 2007).
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <numeric>
 
@@ -266,6 +267,18 @@ void keep_largest_part(TetSet& set) {
   for (std::uint32_t t = 0; t < set.tets.size(); ++t)
     if (find(t) == best) out.tets.push_back({id[set.tets[t].x], id[set.tets[t].y], id[set.tets[t].z], id[set.tets[t].w]});
   set = std::move(out);
+}
+
+TetSet stuff_inside(const std::vector<glm::dvec3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                    double cells_per_diagonal, double warp) {
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const glm::dvec3& p : positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const double h = glm::length(hi - lo) / cells_per_diagonal;
+  LatticeSpec spec;
+  spec.lo = lo - 1.5 * h;
+  for (int a = 0; a < 3; ++a) spec.cells[a] = int(std::ceil((hi[a] - lo[a]) / h)) + 3;
+  spec.hi = spec.lo + h * glm::dvec3(spec.cells);
+  return stuffed_tets(positions, triangles, spec, warp);
 }
 
 }  // namespace fracref

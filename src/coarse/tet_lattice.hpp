@@ -45,4 +45,11 @@ void keep_largest_part(TetSet& set);
 TetSet stuffed_tets(const std::vector<glm::dvec3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles,
                     const LatticeSpec& spec, double warp);
 
+/// stuffed_tets() on a lattice of cubic cells of size h = (the exterior's bounding-box diagonal) /
+/// cells_per_diagonal, covering its box with 1.5 cells of room on every side.
+/// \pre the exterior is closed and outward; cells_per_diagonal > 0.
+/// \throw RunError as stuffed_tets().
+TetSet stuff_inside(const std::vector<glm::dvec3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                    double cells_per_diagonal, double warp);
+
 }  // namespace fracref

@@ -301,7 +301,12 @@ std::string lower_extension(const std::filesystem::path& p) {
 
 }  // namespace
 
+namespace {
+TetMesh with_vertices_per_label(TetMesh mesh);
+}  // namespace
+
 CoarseModel build_tet_model(const TetMesh& mesh, const CrackList* cracks, const TetModelOptions& options) {
+  if (options.own_vertices) return TetBuilder(with_vertices_per_label(mesh), cracks, options).build();
   return TetBuilder(mesh, cracks, options).build();
 }
 
@@ -339,7 +344,6 @@ CoarseModel load_tet_model(const std::filesystem::path& mesh, const std::filesys
   else
     throw InputError(mesh.string() + ": unknown tetrahedral mesh format '" + ext +
                      "' (expected .mesh for MEDIT, .node or .ele for TetGen)");
-  if (options.own_vertices) tets = with_vertices_per_label(std::move(tets));
   if (cracks.empty()) return build_tet_model(tets, nullptr, options);
   const CrackList list = read_cracks(cracks);
   return build_tet_model(tets, &list, options);

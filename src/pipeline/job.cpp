@@ -8,6 +8,7 @@
 #include "coarse/animation.hpp"
 #include "coarse/coarse_model.hpp"
 #include "coarse/cuts_model.hpp"
+#include "coarse/pieces_fit.hpp"
 #include "field/field_sampler.hpp"
 #include "field/grid_file.hpp"
 #include "field/procedural.hpp"
@@ -51,6 +52,24 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+// Pieces that conform exactly keep their own faces; others are fitted on a lattice of the
+// exterior (coarse/pieces_fit.hpp), which gives the model vertices of its own: per-frame positions
+// of the pieces' vertices no longer apply.
+CoarseModel load_pieces_scene(const Scene& scene) {
+  const FractureSpec& f = scene.fracture;
+  FitOptions o;
+  o.tolerance = f.tolerance;
+  if (f.cells_per_diagonal > 0.0) o.cells_per_diagonal = f.cells_per_diagonal;  // 0: automatic, FitOptions' default
+  o.own_vertices = scene.animation.kind == AnimationKind::rigid;
+  const std::vector<PieceInput> pieces = f.files.empty() ? read_pieces(f.mesh) : read_pieces(f.files);
+  CoarseModel m = build_pieces_or_fit(read_mesh(scene.exterior), scene.exterior.string(), pieces, {}, o);
+  if (m.fit.fitted && scene.animation.kind == AnimationKind::frames)
+    throw InputError(scene.file.string() + ": key 'animation.kind': 'frames' needs pieces that conform exactly (the " +
+                     "frames move the pieces' own vertices), but these were fitted to the exterior because " + m.fit.reason +
+                     "; animate them with kind 'rigid' (one transform per piece)");
+  return m;
+}
+
 CoarseModel load_coarse(const Scene& scene) {
   const FractureSpec& f = scene.fracture;
   switch (f.kind) {
@@ -60,7 +79,7 @@ CoarseModel load_coarse(const Scene& scene) {
       o.own_vertices = scene.animation.kind == AnimationKind::rigid;
       return load_tet_model(f.mesh, f.cracks, o);
     }
-    case FractureKind::pieces: return f.files.empty() ? load_pieces(f.mesh) : load_pieces(f.files);
+    case FractureKind::pieces: return load_pieces_scene(scene);
     case FractureKind::cuts: {
       CutsOptions o;
       o.virtual_fracture = f.virtual_fracture;

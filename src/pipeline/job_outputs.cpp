@@ -29,6 +29,14 @@ void JobReport::coarse(const CoarseModel& model, const CoarseAnimation& animatio
   j_["pieces"] = model.piece_count;
   j_["virtual_fracture"] = {{"faces_added", model.virtual_faces_added}, {"area_added", model.virtual_area_added}};
   j_["frames"] = animation.frames.size();
+  if (scene_.fracture.kind != FractureKind::pieces) return;
+  const PiecesFit& f = model.fit;
+  j_["pieces_fit"] = {{"fitted", f.fitted}};
+  if (!f.fitted) return;
+  j_["pieces_fit"].update({{"reason", f.reason}, {"tolerance", f.tolerance}, {"cell", f.cell}, {"tets", f.tets},
+                           {"gap_volume", f.gap_volume}, {"overlap_volume", f.overlap_volume},
+                           {"pieces_volume", f.pieces_volume}, {"exterior_volume", f.exterior_volume},
+                           {"tets_relabelled", f.tets_relabelled}, {"grown", f.grown}});
 }
 
 void JobReport::refined(const FractureSurface& coarse, const FractureSurface& refined, const RefineResult& r,

@@ -66,10 +66,15 @@ FractureSpec read_fracture(ObjectReader r, const fs::path& dir) {
     r.forbid("cracks", "only allowed when kind is 'tets'");
   }
   f.virtual_fracture = r.boolean("virtual_fracture", true);
-  if (f.kind == FractureKind::cuts) {
+  if (f.kind != FractureKind::tets) {
     f.cells_per_diagonal = r.number("cells_per_diagonal", 0.0, Range::closed(4.0, 128.0));
   } else {
-    r.forbid("cells_per_diagonal", "only allowed when kind is 'cuts'");
+    r.forbid("cells_per_diagonal", "only allowed when kind is 'cuts' or 'pieces'");
+  }
+  if (f.kind == FractureKind::pieces) {
+    f.tolerance = r.number("tolerance", f.tolerance, Range{0.0, 0.1, true, false});
+  } else {
+    r.forbid("tolerance", "only allowed when kind is 'pieces'");
   }
   r.finish();
   return f;

@@ -24,7 +24,8 @@ struct FractureSpec {
   std::vector<std::filesystem::path> files;  ///< pieces: one mesh file per piece
   std::filesystem::path cracks;              ///< tets only, optional (empty = none): faces cracked inside one piece
   bool virtual_fracture = true;              ///< extend incomplete cuts until every cut separates
-  double cells_per_diagonal = 0.0;           ///< cuts only: the tet lattice's cell is the exterior's diagonal / this; 0 = automatic
+  double cells_per_diagonal = 0.0;           ///< cuts and pieces (when fitted): the tet lattice's cell is the exterior's diagonal / this; 0 = automatic
+  double tolerance = 0.005;                  ///< pieces only: the widest gap closed between pieces, a fraction of the exterior's diagonal
 };
 
 /// How the low-resolution fracture moves. kind none: static pieces, no frames.
