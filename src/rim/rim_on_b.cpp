@@ -8,16 +8,11 @@
 #include "geom/bvh.hpp"
 #include "geom/predicates.hpp"
 
-#include "rim/rim_clip.hpp"
+#include "rim/trim_to_exterior.hpp"
 #include "util/error.hpp"
 
 namespace fracref::rim {
 namespace {
-
-// A rim vertex's inner edge is probed at this fraction of its length, and followed at most this
-// far to where it enters B.
-constexpr double kRimProbe = 0.005;
-constexpr double kMaxRetract = 0.3;
 
 std::string pair_name(std::uint32_t a, std::uint32_t b) { return std::to_string(a) + "-" + std::to_string(b); }
 
@@ -29,8 +24,6 @@ class Embedder {
 
   Embedding run() {
     locate_rim();
-    out_.clipped = clip_grazing_rim(s_, m_, out_.rim, out_.added, o_);
-    rebuild_adjacency(s_);
     std::map<std::uint32_t, std::array<std::vector<std::uint32_t>, 3>> sides;  // face -> points per side
     for (std::uint32_t e = 0; e < s_.edges.size(); ++e) {
       if (s_.edge_special[e] != kEdgeBoundary) continue;
@@ -42,6 +35,7 @@ class Embedder {
     }
     for (const auto& [f, points] : sides) split_face(f, points);
     rebuild_adjacency(s_);
+    out_.trim = trim_to_exterior(s_, m_, out_.rim, out_.added);
     return std::move(out_);
   }
 
@@ -52,109 +46,6 @@ class Embedder {
       if ((a == edge.x && b == edge.y) || (a == edge.y && b == edge.x)) return k;
     }
     throw RunError("internal: fracture surface face " + std::to_string(f) + " does not hold its edge " + pair_name(edge.x, edge.y));
-  }
-
-  // Where S overshoots a concave B, a rim vertex's inner edge leaves it outside B, and its faces
-  // would cross B next to the rim: the vertex is moved along that edge to where the edge enters
-  // B (the farthest such point over its inner edges, at most kMaxRetract along), unless that
-  // turns one of its faces over.
-  void retract_overshooting_rim() {
-    const double tolerance = 1e-7 * m_.diagonal;
-    for (std::uint32_t w = 0; w < s_.positions.size(); ++w) {
-      if (!(s_.vertex_flags[w] & kVertexBoundary)) continue;
-      double along = 0.0;
-      std::uint32_t toward = w;
-      for (std::uint32_t k = s_.vf_offsets[w]; k < s_.vf_offsets[w + 1]; ++k)
-        for (int c = 0; c < 3; ++c) {
-          const std::uint32_t v = s_.faces[s_.vf_faces[k]][c];
-          if (v == w || (s_.vertex_flags[v] & kVertexBoundary)) continue;
-          const double t = entry_along(at(s_, w), at(s_, v), tolerance);
-          if (t > along) along = t, toward = v;
-        }
-      if (along > 0.0) move_rim_vertex(w, closest_point(m_.bvh, at(s_, w) + along * (at(s_, toward) - at(s_, w))).point);
-    }
-  }
-
-  // Whether every vertex off the rim of a face at rim vertex w lies strictly inside B's side of
-  // the plane of each triangle of B that holds w's location (the contact rule of
-  // refine/exterior_contact.hpp), with w at `x`; and (the worst offender) the one rising most.
-  bool faces_inside_holders(std::uint32_t w, const glm::dvec3& x, std::uint32_t* worst) const {
-    const Location loc = locate_on_exterior(m_, x, o_.location_epsilon, nullptr);
-    bool ok = true;
-    double most = -1.0;
-    for (std::uint32_t k = s_.vf_offsets[w]; k < s_.vf_offsets[w + 1]; ++k)
-      for (int c = 0; c < 3; ++c) {
-        const std::uint32_t v = s_.faces[s_.vf_faces[k]][c];
-        if (v == w || (s_.vertex_flags[v] & kVertexBoundary)) continue;
-        for (std::uint32_t h : location_faces(m_, loc)) {
-          const auto& t = m_.triangles[h];
-          if (orient3d(m_.positions[t[0]], m_.positions[t[1]], m_.positions[t[2]], at(s_, v)) > 0) continue;
-          ok = false;
-          const double rise = glm::dot(at(s_, v) - x, m_.face_normals[h]) / std::max(1e-300, glm::length(at(s_, v) - x));
-          if (rise > most) most = rise, *worst = v;
-        }
-      }
-    return ok;
-  }
-
-  // Where S meets B at a grazing angle, a face at a rim vertex rises above B's tangent plane:
-  // the rim vertex is moved toward that face's offending vertex, onto B, the least of a few
-  // steps that makes every face at it start inside B (or not at all).
-  void retract_grazing_rim() {
-    for (std::uint32_t w = 0; w < s_.positions.size(); ++w) {
-      if (!(s_.vertex_flags[w] & kVertexBoundary)) continue;
-      std::uint32_t worst = w;
-      if (faces_inside_holders(w, at(s_, w), &worst)) continue;
-      for (double f = 0.05; f <= 0.5; f += 0.05) {
-        const glm::dvec3 x = closest_point(m_.bvh, at(s_, w) + f * (at(s_, worst) - at(s_, w))).point;
-        std::uint32_t unused = w;
-        if (!faces_inside_holders(w, x, &unused)) continue;
-        move_rim_vertex(w, x);
-        break;
-      }
-    }
-  }
-
-  bool outside(const glm::dvec3& x, double tolerance) const {
-    return std::sqrt(closest_point(m_.bvh, x).squared_distance) > tolerance && !point_in_mesh(m_.bvh, x);
-  }
-
-  // How far along the inner edge from rim vertex w to v (a fraction) it enters B, when it leaves
-  // w outside B; 0 when it leaves w inside, or stays outside beyond kMaxRetract.
-  double entry_along(const glm::dvec3& w, const glm::dvec3& v, double tolerance) const {
-    if (!outside(w + kRimProbe * (v - w), tolerance)) return 0.0;
-    double out = kRimProbe, in = -1.0;
-    for (double t = 2.0 * kRimProbe; t <= kMaxRetract; t += kRimProbe) {
-      if (!outside(w + t * (v - w), tolerance)) {
-        in = t;
-        break;
-      }
-      out = t;
-    }
-    if (in < 0.0) return 0.0;
-    for (int i = 0; i < 40; ++i) {
-      const double mid = 0.5 * (out + in);
-      (outside(w + mid * (v - w), tolerance) ? out : in) = mid;
-    }
-    return in;
-  }
-
-  void move_rim_vertex(std::uint32_t w, const glm::dvec3& to) {
-    const glm::vec4 old = s_.positions[w];
-    std::vector<glm::dvec3> normals;
-    for (std::uint32_t k = s_.vf_offsets[w]; k < s_.vf_offsets[w + 1]; ++k) normals.push_back(face_normal(s_.vf_faces[k]));
-    s_.positions[w] = glm::vec4(glm::vec3(to), 1.0f);
-    for (std::uint32_t k = s_.vf_offsets[w]; k < s_.vf_offsets[w + 1]; ++k)
-      if (!(glm::dot(face_normal(s_.vf_faces[k]), normals[k - s_.vf_offsets[w]]) > 0.0)) {
-        s_.positions[w] = old;
-        return;
-      }
-    ++out_.retracted;
-  }
-
-  glm::dvec3 face_normal(std::uint32_t f) const {
-    const glm::uvec4 t = s_.faces[f];
-    return glm::cross(at(s_, t.y) - at(s_, t.x), at(s_, t.z) - at(s_, t.x));
   }
 
   void locate_rim() {

@@ -24,7 +24,8 @@ struct RimOnB {
 /// A vertex embed_rim() added to S, as the weighted point of older vertices it was created at
 /// (the refinement tree's convention): a point where a rim edge's trace crosses a B edge, on the
 /// chord of that edge at the fraction of the trace's length; or the centroid of a face with two
-/// or three traced sides.
+/// or three traced sides; or a point of S ∩ B made by trim_to_exterior (on an S edge, its
+/// 2-parent point; inside a face, its 3-parent barycentric point).
 struct EmbeddedVertex {
   std::uint32_t vertex = 0;
   std::array<std::uint32_t, 3> parents{};
@@ -42,20 +43,25 @@ struct EmbedOptions {
   double plane_epsilon = 1e-9;
 };
 
+/// What trim_to_exterior (rim/trim_to_exterior.hpp) did.
+struct TrimStats {
+  std::uint32_t cut_faces = 0;      ///< faces of S re-triangulated along B
+  std::uint32_t removed_faces = 0;  ///< faces of S dropped, whole or in part: outside B
+  std::uint32_t new_vertices = 0;   ///< points of S ∩ B added as rim vertices
+};
+
 struct Embedding {
   RimOnB rim;
   std::vector<EmbeddedVertex> added;  ///< ascending vertex; the new vertices are the last of S
-  std::uint32_t retracted = 0;        ///< rim vertices moved to where S enters B
-  std::uint32_t clipped = 0;          ///< grazing rim vertices cut away (rim_clip.hpp)
+  TrimStats trim;                     ///< S cut to B (rim/trim_to_exterior.hpp)
 };
 
-/// Where S overshoots a concave B (a rim vertex's inner edge leaves it outside B), moves the rim
-/// vertex along that edge to where it enters B, unless that turns one of its faces over. Then
-/// locates every rim vertex of S on B and splits every rim edge whose ends share no triangle of
+/// Locates every rim vertex of S on B and splits every rim edge whose ends share no triangle of
 /// B where its trace (trace_on_exterior) crosses B's edges: the face on the edge becomes a fan
 /// from its opposite corner over the trace's points (a face with two or three traced sides, a
 /// fan from its centroid). New vertices and faces are appended (faces keep their pieces), the
-/// adjacency rebuilt. Rim vertices are moved to their locations (as floats).
+/// adjacency rebuilt. Rim vertices are moved to their locations (as floats). Then S is trimmed to
+/// B (trim_to_exterior): cut along S ∩ B, the parts outside B dropped.
 /// \pre s's adjacency current.
 /// \throw RunError naming the vertex or edge: a rim vertex farther than snap_tolerance from B,
 ///        two rim vertices on one B vertex, a rim edge that cannot be traced, a trace through a
