@@ -60,6 +60,13 @@ bool face_crosses(const glm::uvec4& f, const std::vector<glm::vec4>& x, const ri
 
 }  // namespace
 
+bool face_crosses_exterior(const glm::uvec4& face, const std::vector<glm::vec4>& x, const rim::ExteriorMesh& exterior,
+                           const rim::RimOnB& rim, const std::vector<float>& clearance) {
+  if (!near_exterior(face, x, rim, clearance)) return false;
+  std::vector<std::uint32_t> near;
+  return face_crosses(face, x, exterior, rim, near);
+}
+
 std::vector<std::uint32_t> faces_crossing_exterior(const FractureSurface& s, const std::vector<glm::vec4>& x,
                                                    const rim::ExteriorMesh& exterior, const rim::RimOnB& rim,
                                                    const std::vector<float>& clearance,

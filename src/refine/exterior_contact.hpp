@@ -29,4 +29,8 @@ std::vector<std::uint32_t> faces_crossing_exterior(const FractureSurface& s, con
                                                    const std::vector<float>& clearance,
                                                    const std::vector<std::uint32_t>* only = nullptr);
 
+/// faces_crossing_exterior's rule for one face (vertex ids of s, positions x), not yet in s.
+bool face_crosses_exterior(const glm::uvec4& face, const std::vector<glm::vec4>& x, const rim::ExteriorMesh& exterior,
+                           const rim::RimOnB& rim, const std::vector<float>& clearance);
+
 }  // namespace fracref

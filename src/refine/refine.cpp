@@ -567,10 +567,18 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   st.splits = refine_step(it);
   locate_new_rim_vertices();
   sample_new_vertices();
+  const bool debug_cross = getenv("FRACREF_DEBUG_RIM") != nullptr;
+  auto crossing = [&] { return faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size(); };
+  const std::size_t c_split = debug_cross ? crossing() : 0;
   st.phases.splits = seconds_since(t0);
   auto t1 = Clock::now();
-  st.flips = flip_slim_triangles(s_, samples_, b_, FlipOptions{o_.min_angle});
+  FlipOptions flip_options{o_.min_angle};
+  flip_options.reject_face = [&](const glm::uvec4& f) {
+    return face_crosses_exterior(f, s_.positions, mesh(), rim_, clearance_);
+  };
+  st.flips = flip_slim_triangles(s_, samples_, b_, flip_options);
   st.phases.flips = seconds_since(t1);
+  const std::size_t c_flip = debug_cross ? crossing() : 0;
   t1 = Clock::now();
   if (st.splits + st.flips > 0) evaluate();
   st.phases.evaluate = seconds_since(t1);
@@ -578,6 +586,7 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   const double e_now = energy();
   const bool moved = flow_step(std::min(e_before, e_now), st);
   st.phases.flow = seconds_since(t1);
+  if (debug_cross) fprintf(stderr, "iteration %u: faces crossing B after splits %zu, flips %zu, flow %zu\n", it, c_split, c_flip, crossing());
   if (!moved) st.energy = e_now;
   if (!moved && e_now > e_before) {
     s_ = s_before;
@@ -615,7 +624,9 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   conform_boundary();
   tuck_inside(s_, tree_, b_, tuck_options());
   embed_rim();
-  if (getenv("FRACREF_DEBUG_RIM")) fprintf(stderr, "after embed %zu vertices\n", s_.positions.size());
+  if (getenv("FRACREF_DEBUG_RIM"))
+    fprintf(stderr, "after embed %zu vertices, %zu faces cross B\n", s_.positions.size(),
+            faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size());
   collar_rim(s_, tree_, mesh(), rim_);
   if (getenv("FRACREF_DEBUG_RIM")) fprintf(stderr, "after collar %zu vertices, %zu faces cross B\n", s_.positions.size(), faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size());
   locate_new_rim_vertices();
@@ -638,10 +649,10 @@ RefineResult Refiner::run(const RefineProgress& progress) {
       break;
     }
   }
-  // The flow keeps S's vertices inside B, but a face between vertices inside B can still cross a
-  // concave part of B (the collision test against B checks the motion of S's vertices and of
-  // rim faces): such faces are tucked in as before the flow.
-  tuck_inside(s_, tree_, b_, tuck_options());
+  // S was trimmed to B before the flow (rim/trim_to_exterior.hpp) and the flow's contact rule
+  // keeps its faces from crossing B (hold_exterior_crossings): no tuck after the flow, whose
+  // splits would put new vertices on B off the embedded rim.
+  if (getenv("FRACREF_DEBUG_RIM")) fprintf(stderr, "after tuck: %zu faces cross B\n", faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size());
   split_rim_chords(s_, tree_, b_, tuck_options(), kChordPasses);
   locate_new_rim_vertices();
   // Every edit is meant to keep S valid; a violation here is a bug, and it must not reach the
