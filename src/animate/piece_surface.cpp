@@ -43,11 +43,6 @@ std::vector<glm::dvec3> group_normals(const std::vector<Tri>& faces, const std::
   return sum;
 }
 
-std::string piece_name(std::size_t p) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "piece_%03zu", p);
-  return buffer;
-}
 
 // Shortest text that reads back to the same value: positions as doubles, normals as floats
 // (a normal needs no more, and the piece files stay small).
@@ -136,17 +131,10 @@ glm::dvec2 box_texcoord(const glm::dvec3& material, const glm::dvec3& normal, co
 }
 
 void write_piece_objs(const PieceSet& pieces, const std::filesystem::path& folder) {
-  const std::filesystem::path dir = folder / "pieces";
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw RunError(dir.string() + ": cannot create the folder: " + ec.message());
-  for (std::size_t p = 0; p < pieces.pieces.size(); ++p) {
-    const PieceSet::Piece& piece = pieces.pieces[p];
-    if (piece.inside.size() != piece.triangles.size())
-      throw RunError(piece_name(p) + ": " + std::to_string(piece.inside.size()) + " inside flags for " +
-                     std::to_string(piece.triangles.size()) + " triangles");
+  for_each_piece_file(pieces, folder, [&](const std::filesystem::path& dir, std::size_t p, const PieceSet::Piece& piece) {
     write_file_atomic(dir / (piece_name(p) + ".obj"), piece_obj_text(pieces, piece, piece_name(p)));
-  }
+  });
+  const std::filesystem::path dir = folder / "pieces";
   write_file_atomic(dir / "pieces.mtl", animate_detail::material_library("pieces"));
 }
 

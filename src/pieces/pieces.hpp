@@ -25,6 +25,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -124,6 +125,17 @@ PieceReport check_pieces(const PieceSet& pieces, const MeshSoup& exterior, const
 
 /// \throw RunError listing report.failures when the report is not ok.
 void require_valid_pieces(const PieceReport& report);
+
+/// "piece_NNN" (at least 3 digits): the file and node name of piece p.
+std::string piece_name(std::size_t p);
+
+/// Creates `folder`/pieces and calls write(dir, p, piece) for every piece, in order: the loop
+/// both piece writers (PLY here, OBJ in animate) share.
+/// \throw RunError when the folder cannot be created or a piece's inside flags do not match its
+///        triangles.
+void for_each_piece_file(const PieceSet& pieces, const std::filesystem::path& folder,
+                         const std::function<void(const std::filesystem::path& dir, std::size_t p,
+                                                  const PieceSet::Piece& piece)>& write);
 
 struct PieceWriteOptions {
   bool ply_binary = true;

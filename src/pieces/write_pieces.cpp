@@ -12,11 +12,6 @@ namespace {
 
 using Tri = std::array<std::uint32_t, 3>;
 
-std::string piece_name(std::size_t p) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "piece_%03zu", p);
-  return buffer;
-}
 
 // The piece on its own vertices, in ascending shared index.
 MeshSoup piece_soup(const PieceSet& set, const PieceSet::Piece& piece) {
@@ -47,7 +42,14 @@ MeshSoup piece_soup(const PieceSet& set, const PieceSet::Piece& piece) {
 
 }  // namespace
 
-void write_pieces(const PieceSet& pieces, const std::filesystem::path& folder, const PieceWriteOptions& options) {
+std::string piece_name(std::size_t p) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "piece_%03zu", p);
+  return buffer;
+}
+
+void for_each_piece_file(const PieceSet& pieces, const std::filesystem::path& folder,
+                         const std::function<void(const std::filesystem::path&, std::size_t, const PieceSet::Piece&)>& write) {
   const std::filesystem::path dir = folder / "pieces";
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
@@ -57,10 +59,16 @@ void write_pieces(const PieceSet& pieces, const std::filesystem::path& folder, c
     if (piece.inside.size() != piece.triangles.size())
       throw RunError(piece_name(p) + ": " + std::to_string(piece.inside.size()) + " inside flags for " +
                      std::to_string(piece.triangles.size()) + " triangles");
-    MeshWriteOptions write;
-    write.ply_binary = options.ply_binary;
-    write_mesh(dir / (piece_name(p) + ".ply"), piece_soup(pieces, piece), write);
+    write(dir, p, piece);
   }
+}
+
+void write_pieces(const PieceSet& pieces, const std::filesystem::path& folder, const PieceWriteOptions& options) {
+  MeshWriteOptions write;
+  write.ply_binary = options.ply_binary;
+  for_each_piece_file(pieces, folder, [&](const std::filesystem::path& dir, std::size_t p, const PieceSet::Piece& piece) {
+    write_mesh(dir / (piece_name(p) + ".ply"), piece_soup(pieces, piece), write);
+  });
 }
 
 }  // namespace fracref

@@ -1,8 +1,21 @@
 #pragma once
 // Small fixed models the fuzz harnesses apply fuzzed data to.
 #include "coarse/coarse_model.hpp"
+#include "io/mesh_soup.hpp"
 
 namespace fracref::fuzz {
+
+/// The closed, outward box [lo, hi] as 12 triangles.
+inline MeshSoup box(const glm::dvec3& lo, const glm::dvec3& hi) {
+  MeshSoup s;
+  for (int k = 0; k < 8; ++k) s.positions.emplace_back(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    s.triangles.push_back({std::uint32_t(q[0]), std::uint32_t(q[1]), std::uint32_t(q[2])});
+    s.triangles.push_back({std::uint32_t(q[0]), std::uint32_t(q[2]), std::uint32_t(q[3])});
+  }
+  return s;
+}
 
 /// Two unit cubes side by side along x, each split into 6 tets around its diagonal (Kuhn), the
 /// left one labelled 0 and the right one 1: 12 vertices, 12 tets, two pieces.

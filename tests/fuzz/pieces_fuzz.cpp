@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "coarse/pieces_fit.hpp"
+#include "fuzz/fuzz_models.hpp"
 #include "fuzz/fuzz_support.hpp"
 
 namespace {
@@ -15,14 +16,7 @@ fracref::MeshSoup box_around(const std::vector<fracref::PieceInput>& pieces) {
     for (const glm::dvec3& x : p.positions) lo = glm::min(lo, x), hi = glm::max(hi, x);
   const glm::dvec3 size = hi - lo;
   if (!(size.x > 0 && size.y > 0 && size.z > 0 && std::isfinite(size.x + size.y + size.z))) lo = glm::dvec3(0), hi = glm::dvec3(1);
-  fracref::MeshSoup s;
-  for (int k = 0; k < 8; ++k) s.positions.emplace_back(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
-  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  for (const auto& q : quads) {
-    s.triangles.push_back({std::uint32_t(q[0]), std::uint32_t(q[1]), std::uint32_t(q[2])});
-    s.triangles.push_back({std::uint32_t(q[0]), std::uint32_t(q[2]), std::uint32_t(q[3])});
-  }
-  return s;
+  return fracref::fuzz::box(lo, hi);
 }
 
 }  // namespace
