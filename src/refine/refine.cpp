@@ -539,8 +539,9 @@ std::size_t Refiner::hold_exterior_crossings(const std::vector<glm::vec4>& x0, s
   return held;
 }
 
-// S's rim is embedded in B once, after the conforming splits (fewer traces to walk): from then
-// on a rim edge is only split at a point of its own segment, in the same triangle of B.
+// S's rim is embedded in B once, after the conforming splits (fewer traces to walk), and S is
+// trimmed to B there (rim/trim_to_exterior.hpp): from then on a rim edge is only split at a point
+// of its own segment, in the same triangle of B, and the contact rule keeps S's faces off B.
 void Refiner::embed_rim() {
   rim::Embedding e = rim::embed_rim(s_, mesh());
   for (const rim::EmbeddedVertex& a : e.added) {
@@ -589,9 +590,10 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   locate_new_rim_vertices();
   sample_new_vertices();
   const bool debug_cross = getenv("FRACREF_DEBUG_RIM") != nullptr;
+  // Debug: "faces crossing B / pairs of S's faces that meet" (at most 100 pairs counted).
   auto crossing = [&] {
-    return faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size() * 1000 +
-           find_self_intersections(double_positions(s_), face_triangles(s_), 100).size();
+    return std::to_string(faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size()) + "/" +
+           std::to_string(find_self_intersections(double_positions(s_), face_triangles(s_), 100).size());
   };
   const bool debug_valid = getenv("FRACREF_DEBUG_VALIDATE") != nullptr;
   auto check_valid = [&](const char* phase) {
@@ -599,7 +601,7 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
     if (std::string broken = validate(s_); !broken.empty()) fprintf(stderr, "iteration %u: S invalid after %s: %s\n", it, phase, broken.c_str());
   };
   check_valid("splits");
-  const std::size_t c_split = debug_cross ? crossing() : 0;
+  const std::string c_split = debug_cross ? crossing() : "";
   st.phases.splits = seconds_since(t0);
   auto t1 = Clock::now();
   FlipOptions flip_options{o_.min_angle};
@@ -616,7 +618,7 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   st.flips = flip_slim_triangles(s_, samples_, b_, flip_options);
   st.phases.flips = seconds_since(t1);
   check_valid("flips");
-  const std::size_t c_flip = debug_cross ? crossing() : 0;
+  const std::string c_flip = debug_cross ? crossing() : "";
   t1 = Clock::now();
   if (st.splits + st.flips > 0) evaluate();
   st.phases.evaluate = seconds_since(t1);
@@ -626,8 +628,8 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   st.phases.flow = seconds_since(t1);
   check_valid("flow");
   if (debug_cross)
-    fprintf(stderr, "iteration %u: faces crossing B after splits %zu, flips %zu, flow %zu; S self-intersections %zu\n", it,
-            c_split, c_flip, crossing(), find_self_intersections(double_positions(s_), face_triangles(s_), 100).size());
+    fprintf(stderr, "iteration %u: faces crossing B / S self-intersections after splits %s, flips %s, flow %s\n", it,
+            c_split.c_str(), c_flip.c_str(), crossing().c_str());
   if (!moved) st.energy = e_now;
   if (!moved && e_now > e_before) {
     s_ = s_before;
