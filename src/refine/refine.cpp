@@ -508,16 +508,20 @@ void Refiner::conform_boundary() {
   }
 }
 
-// The faces that meet B at x1 other than at their rim points and did not at x0
-// (refine/exterior_contact.hpp).
+// The faces that meet B at x1 other than at their rim points (refine/exterior_contact.hpp) and
+// have a corner that moved from x0.
 std::vector<std::uint32_t> Refiner::new_crossings(const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
                                                   const std::vector<float>& clearance) const {
   std::vector<std::uint32_t> bad = faces_crossing_exterior(s_, x1, mesh(), rim_, clearance);
-  if (bad.empty()) return bad;
-  const std::vector<std::uint32_t> old = faces_crossing_exterior(s_, x0, mesh(), rim_, clearance, &bad);
-  std::vector<std::uint32_t> fresh;
-  std::set_difference(bad.begin(), bad.end(), old.begin(), old.end(), std::back_inserter(fresh));
-  return fresh;
+  // A face the rule flags at x0 already (it is conservative where a rim point lies on a concave
+  // B edge: the face is inside B but not inside both planes) must not move either: the rule could
+  // not tell when it goes through B. So every flagged face with a moved corner counts.
+  std::vector<std::uint32_t> moved;
+  for (std::uint32_t f : bad) {
+    const glm::uvec4 t = s_.faces[f];
+    if (x1[t.x] != x0[t.x] || x1[t.y] != x0[t.y] || x1[t.z] != x0[t.z]) moved.push_back(f);
+  }
+  return moved;
 }
 
 // S meets B only at its rim: the vertices of a face the step would take across B stay at x0,
@@ -604,7 +608,8 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   const std::string c_split = debug_cross ? crossing() : "";
   st.phases.splits = seconds_since(t0);
   auto t1 = Clock::now();
-  FlipOptions flip_options{o_.min_angle};
+  FlipOptions flip_options;
+  flip_options.min_angle = o_.min_angle;
   flip_options.reject_face = [&](const glm::uvec4& f) {
     return face_crosses_exterior(f, s_.positions, mesh(), rim_, clearance_);
   };
