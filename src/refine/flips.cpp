@@ -332,6 +332,7 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
     // flip_edge would find this very quad again: the flip is made from it directly.
     const glm::uvec2 e = s.edges[c.edge];
     const glm::uvec4 f0(c.opposite.x, e.x, c.opposite.y, 0u), f1(c.opposite.y, e.y, c.opposite.x, 0u);
+    if (o.reject_diagonal && o.reject_diagonal(c.opposite.x, c.opposite.y)) continue;
     if (o.reject_face && (o.reject_face(f0) || o.reject_face(f1))) continue;
     s.faces[c.faces.x] = f0;
     s.faces[c.faces.y] = f1;

@@ -20,6 +20,9 @@ struct FlipOptions {
   /// When set, a flip is not made when this holds for one of its two new faces (the refiner's
   /// contact rule with B: refine/exterior_contact.hpp).
   std::function<bool(const glm::uvec4& face)> reject_face;
+  /// When set, a flip is not made when this holds for its new edge (the refiner: a chord, an
+  /// interior edge between two vertices on B, which a flip on a flat part of B would lay on B).
+  std::function<bool(std::uint32_t a, std::uint32_t b)> reject_diagonal;
 };
 
 /// One pass over the regular edges in id order: flips an edge when one of its faces has an angle

@@ -6,6 +6,7 @@
 #include <iterator>
 
 #include "field/field_sampler.hpp"
+#include "geom/intersect.hpp"
 #include "flow/implicit_step.hpp"
 #include "util/parallel.hpp"
 #include "refine/collisions.hpp"
@@ -164,10 +165,30 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
     clearance_ = clearance_x0;
     st.collisions_stopped += apply_collision_constraints(s_, b_, x0, full, &clearance_);
   }
-  std::vector<float> bound(clearance_.size());
-  for (std::size_t i = 0; i < bound.size(); ++i)
-    bound[i] = i < clearance_x0.size() ? std::min(clearance_[i], clearance_x0[i]) : clearance_[i];
-  st.collisions_stopped += hold_exterior_crossings(x0, full, bound);
+  std::vector<float> bound;
+  auto bounds = [&] {
+    bound.resize(clearance_.size());
+    for (std::size_t i = 0; i < bound.size(); ++i)
+      bound[i] = i < clearance_x0.size() ? std::min(clearance_[i], clearance_x0[i]) : clearance_[i];
+  };
+  bounds();
+  // Holding the vertices of faces that would cross B can expose a collision of S with itself as
+  // holding for the collisions can (see above): the collisions run again, and so on until neither
+  // holds anything more (each round only holds vertices, so it ends).
+  for (;;) {
+    const std::size_t held = hold_exterior_crossings(x0, full, bound);
+    st.collisions_stopped += held;
+    if (held == 0 || !o_.collisions) break;
+    clearance_ = clearance_x0;
+    std::size_t more = apply_collision_constraints(s_, b_, x0, full, &clearance_);
+    while (hold_folding_motion(s_, x0, full, guard) > 0) {
+      clearance_ = clearance_x0;
+      more += apply_collision_constraints(s_, b_, x0, full, &clearance_);
+    }
+    st.collisions_stopped += more;
+    bounds();
+    if (more == 0) break;
+  }
   st.phases.flow_collisions = seconds_since(t_ccd);
   // Backtracking shortens the constrained, collision-free motion: every vertex then follows the
   // first part of the same straight path, which is collision-free too (boundary vertices are
@@ -487,16 +508,20 @@ void Refiner::conform_boundary() {
   }
 }
 
-// The faces that meet B at x1 other than at their rim points and did not at x0
-// (refine/exterior_contact.hpp).
+// The faces that meet B at x1 other than at their rim points (refine/exterior_contact.hpp) and
+// have a corner that moved from x0.
 std::vector<std::uint32_t> Refiner::new_crossings(const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
                                                   const std::vector<float>& clearance) const {
   std::vector<std::uint32_t> bad = faces_crossing_exterior(s_, x1, mesh(), rim_, clearance);
-  if (bad.empty()) return bad;
-  const std::vector<std::uint32_t> old = faces_crossing_exterior(s_, x0, mesh(), rim_, clearance, &bad);
-  std::vector<std::uint32_t> fresh;
-  std::set_difference(bad.begin(), bad.end(), old.begin(), old.end(), std::back_inserter(fresh));
-  return fresh;
+  // A face the rule flags at x0 already (it is conservative where a rim point lies on a concave
+  // B edge: the face is inside B but not inside both planes) must not move either: the rule could
+  // not tell when it goes through B. So every flagged face with a moved corner counts.
+  std::vector<std::uint32_t> moved;
+  for (std::uint32_t f : bad) {
+    const glm::uvec4 t = s_.faces[f];
+    if (x1[t.x] != x0[t.x] || x1[t.y] != x0[t.y] || x1[t.z] != x0[t.z]) moved.push_back(f);
+  }
+  return moved;
 }
 
 // S meets B only at its rim: the vertices of a face the step would take across B stay at x0,
@@ -518,8 +543,9 @@ std::size_t Refiner::hold_exterior_crossings(const std::vector<glm::vec4>& x0, s
   return held;
 }
 
-// S's rim is embedded in B once, after the conforming splits (fewer traces to walk): from then
-// on a rim edge is only split at a point of its own segment, in the same triangle of B.
+// S's rim is embedded in B once, after the conforming splits (fewer traces to walk), and S is
+// trimmed to B there (rim/trim_to_exterior.hpp): from then on a rim edge is only split at a point
+// of its own segment, in the same triangle of B, and the contact rule keeps S's faces off B.
 void Refiner::embed_rim() {
   rim::Embedding e = rim::embed_rim(s_, mesh());
   for (const rim::EmbeddedVertex& a : e.added) {
@@ -568,17 +594,36 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   locate_new_rim_vertices();
   sample_new_vertices();
   const bool debug_cross = getenv("FRACREF_DEBUG_RIM") != nullptr;
-  auto crossing = [&] { return faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size(); };
-  const std::size_t c_split = debug_cross ? crossing() : 0;
+  // Debug: "faces crossing B / pairs of S's faces that meet" (at most 100 pairs counted).
+  auto crossing = [&] {
+    return std::to_string(faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size()) + "/" +
+           std::to_string(find_self_intersections(double_positions(s_), face_triangles(s_), 100).size());
+  };
+  const bool debug_valid = getenv("FRACREF_DEBUG_VALIDATE") != nullptr;
+  auto check_valid = [&](const char* phase) {
+    if (!debug_valid) return;
+    if (std::string broken = validate(s_); !broken.empty()) fprintf(stderr, "iteration %u: S invalid after %s: %s\n", it, phase, broken.c_str());
+  };
+  check_valid("splits");
+  const std::string c_split = debug_cross ? crossing() : "";
   st.phases.splits = seconds_since(t0);
   auto t1 = Clock::now();
-  FlipOptions flip_options{o_.min_angle};
+  FlipOptions flip_options;
+  flip_options.min_angle = o_.min_angle;
   flip_options.reject_face = [&](const glm::uvec4& f) {
     return face_crosses_exterior(f, s_.positions, mesh(), rim_, clearance_);
   };
+  // A chord on B (a flat part of B holds both its ends): S's faces would lie on B there.
+  flip_options.reject_diagonal = [&](std::uint32_t a, std::uint32_t b) {
+    if (!rim_.on_b[a] || !rim_.on_b[b] || !(s_.vertex_flags[a] & kVertexBoundary) || !(s_.vertex_flags[b] & kVertexBoundary))
+      return false;
+    const glm::dvec3 mid = 0.5 * (rim_.at[a].point + rim_.at[b].point);
+    return closest_point(mesh().bvh, mid).squared_distance <= std::pow(1e-6 * mesh().diagonal, 2);
+  };
   st.flips = flip_slim_triangles(s_, samples_, b_, flip_options);
   st.phases.flips = seconds_since(t1);
-  const std::size_t c_flip = debug_cross ? crossing() : 0;
+  check_valid("flips");
+  const std::string c_flip = debug_cross ? crossing() : "";
   t1 = Clock::now();
   if (st.splits + st.flips > 0) evaluate();
   st.phases.evaluate = seconds_since(t1);
@@ -586,7 +631,10 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   const double e_now = energy();
   const bool moved = flow_step(std::min(e_before, e_now), st);
   st.phases.flow = seconds_since(t1);
-  if (debug_cross) fprintf(stderr, "iteration %u: faces crossing B after splits %zu, flips %zu, flow %zu\n", it, c_split, c_flip, crossing());
+  check_valid("flow");
+  if (debug_cross)
+    fprintf(stderr, "iteration %u: faces crossing B / S self-intersections after splits %s, flips %s, flow %s\n", it,
+            c_split.c_str(), c_flip.c_str(), crossing().c_str());
   if (!moved) st.energy = e_now;
   if (!moved && e_now > e_before) {
     s_ = s_before;
@@ -614,6 +662,19 @@ double typical_gradient(const FieldGrid4& field) {
   return std::max(std::sqrt(g2 / n), diagonal > 0.0 ? std::sqrt(psi2 / n) / diagonal : 0.0);
 }
 
+// Debug: S's self-intersections with rim vertices at their locations (as the pieces stage sees S).
+std::size_t located_self_intersections(const FractureSurface& s, const rim::RimOnB& rim) {
+  std::vector<glm::dvec3> x = double_positions(s);
+  for (std::size_t v = 0; v < x.size() && v < rim.on_b.size(); ++v)
+    if (rim.on_b[v] && (s.vertex_flags[v] & kVertexBoundary)) x[v] = rim.at[v].point;
+  const auto pairs = find_self_intersections(x, face_triangles(s), 100);
+  for (std::size_t i = 0; i < pairs.size() && i < 3; ++i) {
+    const glm::uvec4 a = s.faces[pairs[i].first], b = s.faces[pairs[i].second];
+    fprintf(stderr, "  S faces (%u %u %u) and (%u %u %u) meet\n", a.x, a.y, a.z, b.x, b.y, b.z);
+  }
+  return pairs.size();
+}
+
 RefineResult Refiner::run(const RefineProgress& progress) {
   RefineResult result;
   tree_ = RefinementTree::identity(s_.positions.size());
@@ -625,8 +686,9 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   tuck_inside(s_, tree_, b_, tuck_options());
   embed_rim();
   if (getenv("FRACREF_DEBUG_RIM"))
-    fprintf(stderr, "after embed %zu vertices, %zu faces cross B\n", s_.positions.size(),
-            faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size());
+    fprintf(stderr, "after embed %zu vertices, %zu faces cross B, %zu S self-intersections\n", s_.positions.size(),
+            faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size(),
+            find_self_intersections(double_positions(s_), face_triangles(s_), 100).size());
   collar_rim(s_, tree_, mesh(), rim_);
   if (getenv("FRACREF_DEBUG_RIM")) fprintf(stderr, "after collar %zu vertices, %zu faces cross B\n", s_.positions.size(), faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size());
   locate_new_rim_vertices();
@@ -652,7 +714,11 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   // S was trimmed to B before the flow (rim/trim_to_exterior.hpp) and the flow's contact rule
   // keeps its faces from crossing B (hold_exterior_crossings): no tuck after the flow, whose
   // splits would put new vertices on B off the embedded rim.
-  if (getenv("FRACREF_DEBUG_RIM")) fprintf(stderr, "after tuck: %zu faces cross B\n", faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size());
+  if (getenv("FRACREF_DEBUG_VALIDATE")) fprintf(stderr, "after the flow: validate: %s\n", validate(s_).c_str());
+  if (getenv("FRACREF_DEBUG_RIM"))
+    fprintf(stderr, "after the flow: %zu vertices, %zu faces cross B, %zu S self-intersections\n", s_.positions.size(),
+            faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size(),
+            located_self_intersections(s_, rim_));
   split_rim_chords(s_, tree_, b_, tuck_options(), kChordPasses);
   locate_new_rim_vertices();
   // Every edit is meant to keep S valid; a violation here is a bug, and it must not reach the
@@ -663,8 +729,24 @@ RefineResult Refiner::run(const RefineProgress& progress) {
     throw RunError("refinement produced an invalid fracture surface (an internal error; please report it): " + broken);
   if (getenv("FRACREF_DEBUG_RIM")) {
     const auto bad = faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {});
-    fprintf(stderr, "after refine: %zu faces cross B\n", bad.size());
+    fprintf(stderr, "after refine: %zu faces cross B, %zu S self-intersections (%zu at float positions)\n", bad.size(),
+            located_self_intersections(s_, rim_), find_self_intersections(double_positions(s_), face_triangles(s_), 100).size());
     for (std::size_t i = 0; i < bad.size() && i < 5; ++i) fprintf(stderr, "  face %u (%u %u %u)\n", bad[i], s_.faces[bad[i]].x, s_.faces[bad[i]].y, s_.faces[bad[i]].z);
+  }
+  if (const char* list = getenv("FRACREF_DEBUG_VERTS")) {
+    for (const char* c = list; *c;) {
+      char* end = nullptr;
+      const unsigned long v = strtoul(c, &end, 10);
+      if (end == c) break;
+      c = *end ? end + 1 : end;
+      if (v >= s_.positions.size()) continue;
+      const glm::vec4 x = s_.positions[v];
+      fprintf(stderr, "vertex %lu at (%.9g %.9g %.9g) flags %u on_b %d loc kind %d id %u point (%.9g %.9g %.9g) parents %u %u %u w %g %g %g\n", v,
+              x.x, x.y, x.z, s_.vertex_flags[v], v < rim_.on_b.size() ? rim_.on_b[v] : -1, v < rim_.at.size() ? int(rim_.at[v].kind) : -1,
+              v < rim_.at.size() ? rim_.at[v].id : 0u, v < rim_.at.size() ? rim_.at[v].point.x : 0.0, v < rim_.at.size() ? rim_.at[v].point.y : 0.0,
+              v < rim_.at.size() ? rim_.at[v].point.z : 0.0, tree_.parents[v].x, tree_.parents[v].y, tree_.parents[v].z,
+              tree_.weights[v].x, tree_.weights[v].y, tree_.weights[v].z);
+    }
   }
   if (std::string loose = rim::find_unembedded_rim(s_, mesh(), rim_); !loose.empty())
     throw RunError("refinement left the rim off the exterior (an internal error; please report it): " + loose);

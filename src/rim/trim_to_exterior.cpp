@@ -2,6 +2,7 @@
 #include "rim/trim_to_exterior.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -182,14 +183,46 @@ class Trimmer {
     if (!held(a, t) && !held(b, t) && side(t, p_[a]) != side(t, p_[b])) {
       int o[3];
       for (int k = 0; k < 3; ++k) o[k] = orient3d(p_[a], p_[b], corner(t, k), corner(t, (k + 1) % 3));
-      if (o[0] != 0 && o[0] == o[1] && o[1] == o[2]) {
+      int zeros = 0, sign = 0;
+      bool mixed = false;
+      for (int k = 0; k < 3; ++k) {
+        if (o[k] == 0) ++zeros;
+        else if (sign == 0) sign = o[k];
+        else mixed = mixed || o[k] != sign;
+      }
+      if (!mixed && zeros < 3) {
         const glm::dvec3 n = glm::cross(corner(t, 1) - corner(t, 0), corner(t, 2) - corner(t, 0));
         const double da = glm::dot(n, p_[a] - corner(t, 0)), db = glm::dot(n, p_[b] - corner(t, 0));
         const double u = std::clamp(da / (da - db), 0.0, 1.0);
         const glm::dvec3 x = p_[a] + u * (p_[b] - p_[a]);
-        const Location loc = location_from_weights(m_, t, clamped_weights(corner(t, 0), corner(t, 1), corner(t, 2), x));
-        id = new_vertex(loc, {a, b, b}, glm::dvec3(1.0 - u, u, 0.0));
-        edge_points_[e].push_back({u, id});
+        // Through the open triangle: its own point. Exactly through a side (one zero) or a corner
+        // (two) of T: the point is on that B edge or vertex, shared by the triangles around it.
+        Location loc;
+        std::array<std::uint32_t, 2> feature{kNone, kNone};
+        if (zeros == 0) {
+          loc = location_from_weights(m_, t, clamped_weights(corner(t, 0), corner(t, 1), corner(t, 2), x));
+        } else if (zeros == 1) {
+          const int k = o[0] == 0 ? 0 : (o[1] == 0 ? 1 : 2);
+          const std::uint32_t g = m_.face_edges[t][std::size_t(k)];
+          const glm::dvec3 c = m_.positions[m_.edges[g].x], d = m_.positions[m_.edges[g].y];
+          const double along = std::clamp(glm::dot(x - c, d - c) / glm::dot(d - c, d - c), 1e-12, 1.0 - 1e-12);
+          loc = edge_location(m_, g, along);
+          feature = {0u, g};
+        } else {
+          const int k = o[0] != 0 ? 2 : (o[1] != 0 ? 0 : 1);  // the corner between the two zero sides
+          loc = vertex_location(m_, m_.triangles[t][std::size_t(k)]);
+          feature = {1u, loc.id};
+        }
+        if (feature[0] == kNone) {
+          id = new_vertex(loc, {a, b, b}, glm::dvec3(1.0 - u, u, 0.0));
+          edge_points_[e].push_back({u, id});
+        } else if (auto it = on_feature_.find({e, feature[0], feature[1]}); it != on_feature_.end()) {
+          id = it->second;
+        } else {
+          id = new_vertex(loc, {a, b, b}, glm::dvec3(1.0 - u, u, 0.0));
+          edge_points_[e].push_back({u, id});
+          on_feature_[{e, feature[0], feature[1]}] = id;
+        }
       }
     }
     x_[key] = id;
@@ -337,6 +370,7 @@ class Trimmer {
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> x_, y_;  // (S edge, T), (B edge, F) -> vertex
   std::map<std::uint32_t, std::vector<std::pair<double, std::uint32_t>>> edge_points_;  // S edge -> (u from .x, vertex)
   std::map<std::uint32_t, std::vector<std::uint32_t>> y_of_face_;
+  std::map<std::array<std::uint32_t, 3>, std::uint32_t> on_feature_;  // (S edge, 0: B edge / 1: B vertex, id) -> vertex
   std::map<std::uint32_t, glm::dvec3> y_weights_;  // B-edge point -> its weights in its face
   std::vector<std::vector<Pair>> segments_;  // per face
   std::map<Pair, std::uint32_t> segment_face_;  // segment -> its B triangle

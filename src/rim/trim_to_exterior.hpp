@@ -16,7 +16,9 @@ namespace fracref::rim {
 /// triangle of B that holds it: a rim edge is not an intersection, nor a face's touching B at its
 /// own rim vertex), points are computed in double:
 /// - where an S edge crosses a B triangle T, one vertex per (edge, T), shared by the faces on the
-///   edge, located in T (barycentric weights), recorded as the 2-parent point of the edge;
+///   edge, located in T (barycentric weights), recorded as the 2-parent point of the edge; where
+///   it passes exactly through a B edge or vertex (orient3d zero), one vertex per (edge, that B
+///   edge or vertex), located there and shared by the triangles around it;
 /// - where a B edge crosses the interior of a face F, one vertex per (B edge, F), located on the
 ///   B edge, recorded as the 3-parent barycentric point of F.
 /// The segments F ∩ T (one per face and B triangle, each in T) are constraints of a constrained
