@@ -36,6 +36,8 @@ constexpr double kConformTolerance = 2e-4;  // of the diagonal
 constexpr int kConformPasses = 8;
 // Passes of split_rim_chords after the loop (a pass splits each face at most once).
 constexpr int kChordPasses = 4;
+// Barycentric weights below this are zeroed where a rim vertex slides on B (Refiner::slid_rim).
+constexpr double kSlideSnap = 1e-3;
 // Threads judging the split samples (the verdicts do not depend on it).
 
 using Clock = std::chrono::steady_clock;
@@ -65,6 +67,9 @@ class Refiner {
   void conform_boundary();
   const rim::ExteriorMesh& mesh() const { return b_.mesh.triangles.empty() ? own_mesh_ : b_.mesh; }
   void embed_rim();
+  void reembed_rim();
+  rim::RimOnB slid_rim(const std::vector<glm::vec4>& x) const;
+  void snap_slid_rim(std::vector<glm::vec4>& x) const;
   void locate_new_rim_vertices();
   std::vector<std::uint32_t> new_crossings(const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
                                            const std::vector<float>& clearance) const;
@@ -153,6 +158,7 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
   std::vector<glm::vec4> full = x0;
   for (std::size_t i = 0; i < x0.size(); ++i) full[i] = glm::vec4(glm::vec3(x0[i]) + glm::vec3(d[i]), 1.0f);
   apply_boundary_constraint(s_, b_, x0, full);
+  if (o_.rim_motion) snap_slid_rim(full);
   const StepGuardOptions guard = step_guard_options();
   hold_folding_motion(s_, x0, full, guard);
   const auto t_ccd = Clock::now();
@@ -198,6 +204,7 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
     std::vector<glm::vec4> x1 = x0;
     for (std::size_t i = 0; i < x0.size(); ++i) x1[i] = x0[i] + fraction * (full[i] - x0[i]);
     if (attempt > 0) apply_boundary_constraint(s_, b_, x0, x1);
+    if (o_.rim_motion) snap_slid_rim(x1);
     if (attempt > 0 && motion_folds(s_, x0, x1, guard)) continue;
     if (attempt > 0 && !new_crossings(x0, x1, bound).empty()) continue;
     s_.positions = x1;
@@ -215,6 +222,7 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
       samples_ = std::move(trial);
       velocity_ = std::move(vel);
       shorten_clearance(full, x1);
+      if (o_.rim_motion) rim_ = slid_rim(x1);
       return true;
     }
   }
@@ -512,7 +520,8 @@ void Refiner::conform_boundary() {
 // have a corner that moved from x0.
 std::vector<std::uint32_t> Refiner::new_crossings(const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
                                                   const std::vector<float>& clearance) const {
-  std::vector<std::uint32_t> bad = faces_crossing_exterior(s_, x1, mesh(), rim_, clearance);
+  std::vector<std::uint32_t> bad = o_.rim_motion ? faces_crossing_exterior(s_, x1, mesh(), slid_rim(x1), clearance)
+                                                 : faces_crossing_exterior(s_, x1, mesh(), rim_, clearance);
   // A face the rule flags at x0 already (it is conservative where a rim point lies on a concave
   // B edge: the face is inside B but not inside both planes) must not move either: the rule could
   // not tell when it goes through B. So every flagged face with a moved corner counts.
@@ -555,6 +564,41 @@ void Refiner::embed_rim() {
   rim_ = std::move(e.rim);
 }
 
+// With rim_motion the flow slides rim vertices on B (apply_boundary_constraint projects them);
+// each keeps a location: where it lands on B (its closest point). A weight below kSlideSnap is
+// zeroed, so a vertex that slides a hair past a B edge stays on it: otherwise the rim edge to it
+// would be split a hair from its end (reembed_rim), a near-duplicate vertex.
+// \pre x of S's vertices, rim vertices on B.
+rim::RimOnB Refiner::slid_rim(const std::vector<glm::vec4>& x) const {
+  rim::RimOnB out = rim_;
+  for (std::size_t v = 0; v < x.size() && v < out.on_b.size(); ++v) {
+    if (!out.on_b[v] || glm::vec3(x[v]) == glm::vec3(out.at[v].point)) continue;
+    double distance = 0.0;
+    out.at[v] = rim::locate_on_exterior(mesh(), glm::dvec3(glm::vec3(x[v])), kSlideSnap, &distance);
+  }
+  return out;
+}
+
+// Rim vertices of x moved to their slid locations (slid_rim), so that S's positions, the contact
+// rule and the pieces see the same rim.
+void Refiner::snap_slid_rim(std::vector<glm::vec4>& x) const {
+  const rim::RimOnB slid = slid_rim(x);
+  for (std::size_t v = 0; v < x.size() && v < slid.on_b.size(); ++v)
+    if (slid.on_b[v]) x[v] = glm::vec4(glm::vec3(slid.at[v].point), 1.0f);
+}
+
+// A rim vertex that slid into another triangle of B leaves its rim edges across B's edges: they
+// are split where they cross them, as the rim was embedded at the start (embed_rim), before the
+// iteration's splits, which split a rim edge only inside its triangle. The new vertices get what
+// the refiner keeps per vertex (tree entry, last move, clearance, sample, velocity).
+void Refiner::reembed_rim() {
+  if (rim::find_unembedded_rim(s_, mesh(), rim_).empty()) return;
+  embed_rim();
+  inherit_moves();
+  inherit_clearance(s_, tree_, clearance_);
+  evaluate();
+}
+
 // Rim vertices made by splits since the last call lie on their rim edge's segment: their
 // location is the point of that segment at the split's weight (the tree's), and their position
 // that location's point.
@@ -587,6 +631,7 @@ void Refiner::locate_new_rim_vertices() {
 IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   IterationStats st;
   const auto t0 = Clock::now();
+  if (o_.rim_motion) reembed_rim();
   const FractureSurface s_before = s_;
   const std::vector<glm::vec4> samples_before = samples_, velocity_before = velocity_;
   const std::vector<glm::vec3> moves_before = last_move_;
@@ -719,6 +764,7 @@ RefineResult Refiner::run(const RefineProgress& progress) {
     fprintf(stderr, "after the flow: %zu vertices, %zu faces cross B, %zu S self-intersections\n", s_.positions.size(),
             faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size(),
             located_self_intersections(s_, rim_));
+  if (o_.rim_motion) reembed_rim();  // the last step's slides
   split_rim_chords(s_, tree_, b_, tuck_options(), kChordPasses);
   locate_new_rim_vertices();
   // Every edit is meant to keep S valid; a violation here is a bug, and it must not reach the
