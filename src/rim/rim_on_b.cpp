@@ -24,6 +24,17 @@ class Embedder {
 
   Embedding run() {
     locate_rim();
+    split_unembedded();
+    out_.trim = trim_to_exterior(s_, m_, out_.rim, out_.added);
+    // A face the trim dropped because it lies on B (a flap) leaves its edge to the rest of S as a
+    // new rim edge, which may cross B's edges: split there too.
+    if (!find_unembedded_rim(s_, m_, out_.rim).empty()) split_unembedded();
+    return std::move(out_);
+  }
+
+ private:
+  // Every rim edge whose ends share no triangle of B split where its trace crosses B's edges.
+  void split_unembedded() {
     std::map<std::uint32_t, std::array<std::vector<std::uint32_t>, 3>> sides;  // face -> points per side
     for (std::uint32_t e = 0; e < s_.edges.size(); ++e) {
       if (s_.edge_special[e] != kEdgeBoundary) continue;
@@ -35,11 +46,8 @@ class Embedder {
     }
     for (const auto& [f, points] : sides) split_face(f, points);
     rebuild_adjacency(s_);
-    out_.trim = trim_to_exterior(s_, m_, out_.rim, out_.added);
-    return std::move(out_);
   }
 
- private:
   int side_of(std::uint32_t f, glm::uvec2 edge) const {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t a = s_.faces[f][k], b = s_.faces[f][(k + 1) % 3];

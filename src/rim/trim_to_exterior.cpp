@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -122,7 +123,7 @@ class Trimmer {
       stats.cut_faces += cut[f];
       bool dropped = false;
       for (std::uint32_t i = 0; i < cells[f].size(); ++i) {
-        if (!inside[find(first[f] + i)]) {
+        if (!inside[find(first[f] + i)] || lies_on_b(cells[f][i])) {
           dropped = true;
           continue;
         }
@@ -148,6 +149,15 @@ class Trimmer {
   }
 
  private:
+  // A triangle whose corners are all on B and whose centroid is on B too (a flap folded onto B)
+  // lies on B: it bounds no piece, and a piece built with it would not be a manifold.
+  bool lies_on_b(const std::array<std::uint32_t, 3>& c) const {
+    for (int k = 0; k < 3; ++k)
+      if (!(c[k] < p_.size() && (c[k] >= s_.positions.size() || on_rim(c[k])))) return false;
+    const glm::dvec3 centroid = (p_[c[0]] + p_[c[1]] + p_[c[2]]) / 3.0;
+    return closest_point(m_.bvh, centroid).squared_distance <= std::pow(1e-9 * m_.diagonal, 2);
+  }
+
   bool on_rim(std::uint32_t v) const { return v < rim_.on_b.size() && rim_.on_b[v]; }
   bool held(std::uint32_t v, std::uint32_t t) const { return on_rim(v) && location_in_face(m_, rim_.at[v], t); }
   // Whether rim vertex v lies on the closed B edge g.
