@@ -226,7 +226,7 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   PieceSet pieces = build_pieces(s, b.mesh, refined.rim);
   PieceReport checked = check_pieces(pieces, exterior_mesh);
   report.pieces(pieces, checked);
-  if (!getenv("FRACREF_DEBUG_KEEP")) require_valid_pieces(checked);
+  require_valid_pieces(checked);
   if (scene.output.ply) write_pieces(pieces, out);
   if (scene.output.obj) write_piece_objs(pieces, out);
   report.seconds("pieces", seconds_since(t_pieces));

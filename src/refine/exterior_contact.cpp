@@ -44,14 +44,12 @@ bool face_crosses(const glm::uvec4& f, const std::vector<glm::vec4>& x, const ri
     for (int k = 0; k < 3; ++k) holds = holds || (on_rim(rim, f[k]) && rim::location_in_face(m, rim.at[f[k]], t));
     if (!holds) {
       if (triangles_intersect(face, {m.positions[tri[0]], m.positions[tri[1]], m.positions[tri[2]]})) {
-        if (getenv("FRACREF_DEBUG_CONTACT")) fprintf(stderr, "face (%u%s %u%s %u%s) meets B %u (not holding)\n", f.x, on_rim(rim,f.x)?"r":"", f.y, on_rim(rim,f.y)?"r":"", f.z, on_rim(rim,f.z)?"r":"", t);
         return true;
       }
       continue;
     }
     for (int k = 0; k < 3; ++k)
       if (!on_rim(rim, f[k]) && orient3d(m.positions[tri[0]], m.positions[tri[1]], m.positions[tri[2]], face[std::size_t(k)]) <= 0) {
-        if (getenv("FRACREF_DEBUG_CONTACT")) fprintf(stderr, "face (%u%s %u%s %u%s) vertex %u outside holder B %u\n", f.x, on_rim(rim,f.x)?"r":"", f.y, on_rim(rim,f.y)?"r":"", f.z, on_rim(rim,f.z)?"r":"", f[k], t);
         return true;
       }
   }

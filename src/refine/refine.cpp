@@ -638,19 +638,6 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   st.splits = refine_step(it);
   locate_new_rim_vertices();
   sample_new_vertices();
-  const bool debug_cross = getenv("FRACREF_DEBUG_RIM") != nullptr;
-  // Debug: "faces crossing B / pairs of S's faces that meet" (at most 100 pairs counted).
-  auto crossing = [&] {
-    return std::to_string(faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size()) + "/" +
-           std::to_string(find_self_intersections(double_positions(s_), face_triangles(s_), 100).size());
-  };
-  const bool debug_valid = getenv("FRACREF_DEBUG_VALIDATE") != nullptr;
-  auto check_valid = [&](const char* phase) {
-    if (!debug_valid) return;
-    if (std::string broken = validate(s_); !broken.empty()) fprintf(stderr, "iteration %u: S invalid after %s: %s\n", it, phase, broken.c_str());
-  };
-  check_valid("splits");
-  const std::string c_split = debug_cross ? crossing() : "";
   st.phases.splits = seconds_since(t0);
   auto t1 = Clock::now();
   FlipOptions flip_options;
@@ -667,8 +654,6 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   };
   st.flips = flip_slim_triangles(s_, samples_, b_, flip_options);
   st.phases.flips = seconds_since(t1);
-  check_valid("flips");
-  const std::string c_flip = debug_cross ? crossing() : "";
   t1 = Clock::now();
   if (st.splits + st.flips > 0) evaluate();
   st.phases.evaluate = seconds_since(t1);
@@ -676,10 +661,6 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   const double e_now = energy();
   const bool moved = flow_step(std::min(e_before, e_now), st);
   st.phases.flow = seconds_since(t1);
-  check_valid("flow");
-  if (debug_cross)
-    fprintf(stderr, "iteration %u: faces crossing B / S self-intersections after splits %s, flips %s, flow %s\n", it,
-            c_split.c_str(), c_flip.c_str(), crossing().c_str());
   if (!moved) st.energy = e_now;
   if (!moved && e_now > e_before) {
     s_ = s_before;
@@ -707,19 +688,6 @@ double typical_gradient(const FieldGrid4& field) {
   return std::max(std::sqrt(g2 / n), diagonal > 0.0 ? std::sqrt(psi2 / n) / diagonal : 0.0);
 }
 
-// Debug: S's self-intersections with rim vertices at their locations (as the pieces stage sees S).
-std::size_t located_self_intersections(const FractureSurface& s, const rim::RimOnB& rim) {
-  std::vector<glm::dvec3> x = double_positions(s);
-  for (std::size_t v = 0; v < x.size() && v < rim.on_b.size(); ++v)
-    if (rim.on_b[v] && (s.vertex_flags[v] & kVertexBoundary)) x[v] = rim.at[v].point;
-  const auto pairs = find_self_intersections(x, face_triangles(s), 100);
-  for (std::size_t i = 0; i < pairs.size() && i < 3; ++i) {
-    const glm::uvec4 a = s.faces[pairs[i].first], b = s.faces[pairs[i].second];
-    fprintf(stderr, "  S faces (%u %u %u) and (%u %u %u) meet\n", a.x, a.y, a.z, b.x, b.y, b.z);
-  }
-  return pairs.size();
-}
-
 RefineResult Refiner::run(const RefineProgress& progress) {
   RefineResult result;
   tree_ = RefinementTree::identity(s_.positions.size());
@@ -730,12 +698,7 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   conform_boundary();
   tuck_inside(s_, tree_, b_, tuck_options());
   embed_rim();
-  if (getenv("FRACREF_DEBUG_RIM"))
-    fprintf(stderr, "after embed %zu vertices, %zu faces cross B, %zu S self-intersections\n", s_.positions.size(),
-            faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size(),
-            find_self_intersections(double_positions(s_), face_triangles(s_), 100).size());
   collar_rim(s_, tree_, mesh(), rim_);
-  if (getenv("FRACREF_DEBUG_RIM")) fprintf(stderr, "after collar %zu vertices, %zu faces cross B\n", s_.positions.size(), faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size());
   locate_new_rim_vertices();
   last_move_.assign(s_.positions.size(), glm::vec3(0.0f));
   evaluate();
@@ -759,11 +722,6 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   // S was trimmed to B before the flow (rim/trim_to_exterior.hpp) and the flow's contact rule
   // keeps its faces from crossing B (hold_exterior_crossings): no tuck after the flow, whose
   // splits would put new vertices on B off the embedded rim.
-  if (getenv("FRACREF_DEBUG_VALIDATE")) fprintf(stderr, "after the flow: validate: %s\n", validate(s_).c_str());
-  if (getenv("FRACREF_DEBUG_RIM"))
-    fprintf(stderr, "after the flow: %zu vertices, %zu faces cross B, %zu S self-intersections\n", s_.positions.size(),
-            faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {}).size(),
-            located_self_intersections(s_, rim_));
   if (o_.rim_motion) reembed_rim();  // the last step's slides
   split_rim_chords(s_, tree_, b_, tuck_options(), kChordPasses);
   locate_new_rim_vertices();
@@ -773,27 +731,6 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   // a full rebuild.
   if (std::string broken = validate_rebuilt(s_); !broken.empty())
     throw RunError("refinement produced an invalid fracture surface (an internal error; please report it): " + broken);
-  if (getenv("FRACREF_DEBUG_RIM")) {
-    const auto bad = faces_crossing_exterior(s_, s_.positions, mesh(), rim_, {});
-    fprintf(stderr, "after refine: %zu faces cross B, %zu S self-intersections (%zu at float positions)\n", bad.size(),
-            located_self_intersections(s_, rim_), find_self_intersections(double_positions(s_), face_triangles(s_), 100).size());
-    for (std::size_t i = 0; i < bad.size() && i < 5; ++i) fprintf(stderr, "  face %u (%u %u %u)\n", bad[i], s_.faces[bad[i]].x, s_.faces[bad[i]].y, s_.faces[bad[i]].z);
-  }
-  if (const char* list = getenv("FRACREF_DEBUG_VERTS")) {
-    for (const char* c = list; *c;) {
-      char* end = nullptr;
-      const unsigned long v = strtoul(c, &end, 10);
-      if (end == c) break;
-      c = *end ? end + 1 : end;
-      if (v >= s_.positions.size()) continue;
-      const glm::vec4 x = s_.positions[v];
-      fprintf(stderr, "vertex %lu at (%.9g %.9g %.9g) flags %u on_b %d loc kind %d id %u point (%.9g %.9g %.9g) parents %u %u %u w %g %g %g\n", v,
-              x.x, x.y, x.z, s_.vertex_flags[v], v < rim_.on_b.size() ? rim_.on_b[v] : -1, v < rim_.at.size() ? int(rim_.at[v].kind) : -1,
-              v < rim_.at.size() ? rim_.at[v].id : 0u, v < rim_.at.size() ? rim_.at[v].point.x : 0.0, v < rim_.at.size() ? rim_.at[v].point.y : 0.0,
-              v < rim_.at.size() ? rim_.at[v].point.z : 0.0, tree_.parents[v].x, tree_.parents[v].y, tree_.parents[v].z,
-              tree_.weights[v].x, tree_.weights[v].y, tree_.weights[v].z);
-    }
-  }
   if (std::string loose = rim::find_unembedded_rim(s_, mesh(), rim_); !loose.empty())
     throw RunError("refinement left the rim off the exterior (an internal error; please report it): " + loose);
   result.tree = std::move(tree_);

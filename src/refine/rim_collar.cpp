@@ -54,7 +54,6 @@ std::size_t collar_rim(FractureSurface& s, RefinementTree& tree, const rim::Exte
       const double length = glm::length(d);
       double rise = -1.0;
       for (std::uint32_t h : holders) rise = std::max(rise, glm::dot(d, exterior.face_normals[h]) / length);
-      if (getenv("FRACREF_DEBUG_COLLAR") && (p == 805 || c == 387)) fprintf(stderr, "pass %d edge %u-%u rise %g holders %zu\n", pass, p, c, rise, holders.size());
       if (!(length > 0.0) || rise < -o.grazing) continue;
       bool free = true;
       for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) free = free && !touched[s.ef_faces[k]];
@@ -68,7 +67,7 @@ std::size_t collar_rim(FractureSurface& s, RefinementTree& tree, const rim::Exte
           if (over > 0.0) q -= n * over;
         }
       q = stored_position(q);
-      if (!point_in_mesh(exterior.bvh, q)) { if (getenv("FRACREF_DEBUG_COLLAR") && (p == 805 || c == 387)) fprintf(stderr, "  outside\n"); continue; }
+      if (!point_in_mesh(exterior.bvh, q)) continue;
       // The new faces must meet no other face of S (exact).
       const std::uint32_t id = guard.add_vertex(q);
       std::vector<TriangleIds> made_faces;
@@ -82,7 +81,7 @@ std::size_t collar_rim(FractureSurface& s, RefinementTree& tree, const rim::Exte
         made_faces.push_back({id, w, z});
         replaced.push_back(s.ef_faces[k]);
       }
-      if (!guard.clear(made_faces, replaced)) { if (getenv("FRACREF_DEBUG_COLLAR") && (p == 805 || c == 387)) fprintf(stderr, "  guard\n"); continue; }
+      if (!guard.clear(made_faces, replaced)) continue;
       guard.accept(made_faces, replaced);
       for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) touched[s.ef_faces[k]] = 1;
       const float tp = float(rim_a ? t : 1.0 - t);

@@ -38,7 +38,7 @@ glm::dvec3 clamped_weights(const glm::dvec3& a, const glm::dvec3& b, const glm::
 class Trimmer {
  public:
   Trimmer(FractureSurface& s, const ExteriorMesh& m, RimOnB& rim, std::vector<EmbeddedVertex>& added)
-      : s_(s), m_(m), rim_(rim), added_(added), debug_(std::getenv("FRACREF_DEBUG_TRIM") != nullptr) {}
+      : s_(s), m_(m), rim_(rim), added_(added) {}
 
   TrimStats run() {
     const std::size_t nf = s_.faces.size();
@@ -111,9 +111,6 @@ class Trimmer {
         } else {
           inside[r] = votes_in[r] >= votes_out[r];
         }
-        if (debug_ && votes_out[r] > 0)
-          std::fprintf(stderr, "trim: region of face %u: %d votes inside, %d outside -> %s\n", f, votes_in[r], votes_out[r],
-                       inside[r] ? "kept" : "dropped");
       }
     // 4. the kept faces
     TrimStats stats;
@@ -142,9 +139,6 @@ class Trimmer {
     if (std::string broken = validate(s_); !broken.empty())
       throw RunError("trimming the fracture surface to the exterior made it invalid (an internal error; please report it): " +
                      broken);
-    if (debug_)
-      std::fprintf(stderr, "trim: %u faces cut, %u faces dropped (in part or whole), %u vertices added\n", stats.cut_faces,
-                   stats.removed_faces, stats.new_vertices);
     return stats;
   }
 
@@ -375,7 +369,6 @@ class Trimmer {
   const ExteriorMesh& m_;
   RimOnB& rim_;
   std::vector<EmbeddedVertex>& added_;
-  bool debug_ = false;
   std::vector<glm::dvec3> p_;  // per vertex: its point (a rim vertex's location's)
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> x_, y_;  // (S edge, T), (B edge, F) -> vertex
   std::map<std::uint32_t, std::vector<std::pair<double, std::uint32_t>>> edge_points_;  // S edge -> (u from .x, vertex)
