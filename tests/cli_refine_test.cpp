@@ -236,7 +236,9 @@ TEST(CliRefine, DistanceWeightKeepsTheSurfaceNearTheCoarseOne) {
   t.write("cube.mesh", cube_mesh(2));
   std::vector<nlohmann::json> reports;
   for (const char* w : {"0.5", "16"}) {
-    auto s = t.write(std::string("scene_") + w + ".json", scene(std::string(R"(, "weights": {"distance": )") + w + "}"));
+    // Three levels: a 16^3 grid has no room for the default five (its coarsest would be 1 node).
+    auto s = t.write(std::string("scene_") + w + ".json",
+                     scene(std::string(R"(, "pyramid": {"levels": 3}, "weights": {"distance": )") + w + "}"));
     const fs::path out = t.path / (std::string("out_") + w);
     auto r = run("refine " + s.string() + " -o " + out.string() + " --backend cpu --stop-after refine -q");
     ASSERT_EQ(r.code, 0) << r.err;

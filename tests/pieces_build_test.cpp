@@ -34,7 +34,7 @@ TEST(PiecesBox, PlanarSheetInTwelveTriangleBox) {
   const FractureSurface s = example_sheet(4);
   const PieceSet set = build_pieces(s, b);
   ASSERT_EQ(set.pieces.size(), 2u);
-  EXPECT_EQ(set.crossings.size(), 4u);
+  EXPECT_EQ(std::size_t(set.rim_points_added), 4u);
   EXPECT_EQ(set.snapped_to_b_vertex, 0u);
   // B' = 8 box corners + 12 boundary vertices of S + 4 crossings, closed genus 0: F = 2V - 4.
   EXPECT_EQ(exterior_triangles(set), 2u * (8 + 12 + 4) - 4);
@@ -47,15 +47,18 @@ TEST(PiecesBox, PlanarSheetInTwelveTriangleBox) {
 }
 
 // The same sheet in a 4 x 4-per-face box: the box has a grid line at z = 0, so the sheet's
-// boundary runs along B edges and through B vertices; its corners land on B vertices.
+// boundary runs along B edges and through B vertices; its corners land on B vertices, and each
+// rim edge is split at the B vertices it runs through (x or y = 0.75, 1.5, 2.25), which S's new
+// rim vertices take over.
 TEST(PiecesBox, PlanarSheetAlongBoxEdges) {
   const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 4);
   const FractureSurface s = example_sheet(4);
   const PieceSet set = build_pieces(s, b);
-  EXPECT_EQ(set.crossings.size(), 0u);
-  EXPECT_EQ(set.snapped_to_b_vertex, 4u);
-  // 98 box vertices, 4 of them taken over by S corners, + 8 S vertices inside box edges.
-  EXPECT_EQ(set.positions.size(), s.positions.size() + 98 - 4);
+  EXPECT_GE(std::size_t(set.rim_points_added), 12u);
+  EXPECT_EQ(set.snapped_to_b_vertex, 4u + 12u);
+  // 98 box vertices less those S's rim vertices take over, with S's own and the added ones.
+  EXPECT_EQ(set.positions.size(), s.positions.size() + set.rim_points_added + 98 - set.snapped_to_b_vertex);
+  // B' = the 98 box vertices + the 8 S vertices inside box edges, closed genus 0: F = 2V - 4.
   EXPECT_EQ(exterior_triangles(set), 2u * (98 + 8) - 4);
   EXPECT_NEAR(piece_volume(set, 0), 9.0, 1e-12);
   expect_valid_pieces(set, b);
@@ -143,7 +146,7 @@ TEST(PiecesCurved, IcosphereCutByWavySheet) {
   for (int segments : {24, 7, 60}) {
     const FractureSurface s = wavy_disk(b, 4, segments);
     const PieceSet set = build_pieces(s, b);
-    EXPECT_GT(set.crossings.size(), 0u);
+    EXPECT_GT(std::size_t(set.rim_points_added), 0u);
     const PieceReport report = expect_valid_pieces(set, b);
     EXPECT_LT(report.volume_relative_error, 1e-9) << segments << " segments";
   }
@@ -226,8 +229,8 @@ TEST(PiecesDeterminism, SameInputSameOutput) {
   for (std::size_t p = 0; p < first.pieces.size(); ++p) EXPECT_EQ(first.pieces[p].triangles, second.pieces[p].triangles);
 }
 
-// Refined surfaces come with boundary vertices a hair apart and faces lying flat on B; both are
-// repaired before the cut.
+// Refined surfaces come with boundary vertices a hair apart and faces lying flat on B: the rim
+// embedded in B takes both as they are, in one pass (nothing is contracted or left out).
 // The face of `faces` on boundary edge p1-p2 (either direction) split by a new vertex a hair
 // before p2: (v1, w, r) and the sliver (w, v2, r). False when there is no such face.
 bool insert_hair_vertex(std::vector<glm::vec4>& positions, std::vector<glm::uvec4>& faces, std::vector<glm::ivec2>& pieces,
@@ -262,27 +265,21 @@ bool sheet_with_hairs(std::initializer_list<std::pair<glm::vec3, glm::vec3>> edg
   return true;
 }
 
-TEST(PiecesRepair, HairShortBoundaryEdgeIsContracted) {
+TEST(PiecesRim, HairShortRimEdgeIsKept) {
   const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
   FractureSurface s;
   // On the boundary edge y = 0 from (1,0,0) to (2,0,0).
   ASSERT_TRUE(sheet_with_hairs({{{1, 0, 0}, {2, 0, 0}}}, s));
   const PieceSet set = build_pieces(s, b);
-  EXPECT_EQ(set.boundary_edges_merged, 1u);
-  EXPECT_EQ(set.flaps_removed, 0u);
   EXPECT_NEAR(piece_volume(set, 0), 9.0, 1e-12);
   expect_valid_pieces(set, b);
 }
 
-// Short boundary edges far apart are contracted in one go (one rebuild of S), with the same
-// result as one at a time.
-TEST(PiecesRepair, HairEdgesFarApartAreContractedTogether) {
+TEST(PiecesRim, HairEdgesFarApartAreKept) {
   const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
   FractureSurface s;
   ASSERT_TRUE(sheet_with_hairs({{{1, 0, 0}, {2, 0, 0}}, {{1, 3, 0}, {2, 3, 0}}}, s));
   const PieceSet set = build_pieces(s, b);
-  EXPECT_EQ(set.boundary_edges_merged, 2u);
-  EXPECT_EQ(set.attempts, 1u);
   EXPECT_NEAR(piece_volume(set, 0), 9.0, 1e-12);
   expect_valid_pieces(set, b);
 }
@@ -310,27 +307,14 @@ FractureSurface sheet_with_flaps(const std::vector<std::pair<glm::vec4, glm::vec
 }
 }  // namespace
 
-TEST(PiecesRepair, FlapLyingOnExteriorIsLeftOut) {
+// A flap folded up onto the box face y = 0 from the boundary edge (1,0,0)-(2,0,0): it lies on B,
+// outside nothing, and the pieces stay valid.
+TEST(PiecesRim, FlapLyingOnExteriorKeepsThePiecesValid) {
   const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
-  // A flap folded up onto the box face y = 0 from the boundary edge (1,0,0)-(2,0,0).
   const FractureSurface s = sheet_with_flaps({{{2, 0, 0, 1}, {1, 0, 0, 1}}});
   ASSERT_EQ(validate(s), "");
   const PieceSet set = build_pieces(s, b);
-  EXPECT_EQ(set.flaps_removed, 1u);
-  EXPECT_EQ(count_inside(set.pieces[0], 1), example_sheet(4).faces.size() + 4);  // as PlanarSheetInTwelveTriangleBox
-  expect_valid_pieces(set, b);
-}
-
-// Flaps lying on B are found before the first build: two on opposite sides of the box cost no
-// rebuild.
-TEST(PiecesRepair, FlapsFarApartAreLeftOutWithoutRebuild) {
-  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
-  const FractureSurface s = sheet_with_flaps({{{2, 0, 0, 1}, {1, 0, 0, 1}}, {{1, 3, 0, 1}, {2, 3, 0, 1}}});
-  ASSERT_EQ(validate(s), "");
-  const PieceSet set = build_pieces(s, b);
-  EXPECT_EQ(set.flaps_removed, 2u);
-  EXPECT_EQ(set.attempts, 1u);
-  EXPECT_EQ(count_inside(set.pieces[0], 1), example_sheet(4).faces.size() + 4);
+  EXPECT_NEAR(piece_volume(set, 0) + piece_volume(set, 1), 18.0, 1e-9);
   expect_valid_pieces(set, b);
 }
 

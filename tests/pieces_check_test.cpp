@@ -1,5 +1,5 @@
 // check_pieces catches every kind of broken piece set; write_pieces writes files that read back;
-// the two re-triangulations (cut B triangle, fracture polygon) on small cases with known counts.
+// the cut B triangle's constrained triangulation on small cases with known counts.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -231,78 +231,6 @@ TEST(PiecesTriangulate, CrossingConstraintsAreRejected) {
   in.side_points[2] = {5, 7};
   in.constraints = {{3, 5}, {6, 4}};
   EXPECT_THROW(triangulate_cut_triangle(in), RunError);
-}
-
-// One cut side: the fan from the opposite corner; two cut sides: no triangle along one side.
-TEST(PiecesTriangulate, FracturePolygonFansAndEars) {
-  const glm::dvec3 n(0, 0, 1);
-  const std::vector<glm::dvec3> one = {{0, 0, 0}, {0.3, -0.01, 0}, {0.6, -0.01, 0}, {1, 0, 0}, {0.5, 1, 0}};
-  const auto fan = triangulate_fracture_polygon(one, {5, 1, 1, 3, 6}, n);
-  ASSERT_EQ(fan.triangles.size(), 3u);
-  EXPECT_FALSE(fan.centre_added);
-  for (const auto& t : fan.triangles) EXPECT_TRUE(t[0] == 4 || t[1] == 4 || t[2] == 4);
-  const std::vector<glm::dvec3> two = {{0, 0, 0}, {0.5, -0.01, 0}, {1, 0, 0}, {0.76, 0.5, 0}, {0.5, 1, 0}};
-  const std::vector<unsigned> mask = {5, 1, 3, 2, 6};
-  const auto ears = triangulate_fracture_polygon(two, mask, n);
-  ASSERT_EQ(ears.triangles.size(), 3u);
-  for (const auto& t : ears.triangles) EXPECT_EQ(mask[t[0]] & mask[t[1]] & mask[t[2]], 0u);
-  EXPECT_THROW(triangulate_fracture_polygon(one, {5, 1, 1, 3, 6}, -n), RunError);
-}
-
-// A face with all corners on B over a crease: the plane y = 0 (top) meets the plane x = 0
-// (side) along the z axis. Corners a, b on the top, c on the side; the trace b -> c bends over
-// the crease at k. Every triangle among the polygon's points lies in one plane of B, so the
-// face is fanned from its centroid.
-TEST(PiecesTriangulate, FaceOverCreaseIsFannedFromItsCentroid) {
-  const glm::dvec3 a(0.5, 0, 0), b(0.3, 0, 1), k(0, 0, 0.8), m(0, -0.2, 0.6), c(0, -0.5, 0.3);
-  const std::vector<glm::dvec3> polygon = {a, b, k, m, c};
-  const unsigned on = kOnExterior;
-  const std::vector<unsigned> mask = {5 | on, 3 | on, 2 | on, 2 | on, 6 | on};
-  // Flat: all three corners in the plane y = 0 or all in the plane x = 0.
-  const FlatTest flat = [](const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& r) {
-    return (p.y == 0 && q.y == 0 && r.y == 0) || (p.x == 0 && q.x == 0 && r.x == 0);
-  };
-  const glm::dvec3 normal = glm::cross(b - a, c - a);
-  const auto result = triangulate_fracture_polygon(polygon, mask, normal, flat);
-  ASSERT_TRUE(result.centre_added);
-  EXPECT_EQ(result.centre, (a + b + c) / 3.0);
-  EXPECT_EQ(result.triangles.size(), polygon.size());
-  for (const auto& t : result.triangles) EXPECT_EQ(t[2], polygon.size());
-  // Without the flatness test the fan from a is taken (and would lie flat on B).
-  EXPECT_FALSE(triangulate_fracture_polygon(polygon, mask, normal).centre_added);
-}
-
-// A face whose trace bends so sharply toward its centroid that the centroid does not see the
-// first side (a -> k): the centre is taken elsewhere in the face's triangle, where it sees all.
-TEST(PiecesTriangulate, CentreSearchedWhenTheCentroidIsBlind) {
-  const glm::dvec3 a(0, 0, 0), k(0.5, 0.3, 0), b(4, 0, 0), m(3, 1, 0), c(2, 2, 0);
-  const std::vector<glm::dvec3> polygon = {a, k, b, m, c};
-  const unsigned on = kOnExterior;
-  const std::vector<unsigned> mask = {5 | on, 1 | on, 3 | on, 2 | on, 6 | on};
-  const FlatTest flat = [](const glm::dvec3&, const glm::dvec3&, const glm::dvec3&) { return true; };
-  const auto result = triangulate_fracture_polygon(polygon, mask, {0, 0, 1}, flat);
-  ASSERT_TRUE(result.centre_added);
-  EXPECT_NE(result.centre_weights, glm::dvec3(1.0 / 3.0));
-  const glm::dvec3 w = result.centre_weights;
-  EXPECT_EQ(result.centre, w.x * a + w.y * b + w.z * c);
-  EXPECT_NEAR(w.x + w.y + w.z, 1.0, 1e-12);
-  ASSERT_EQ(result.triangles.size(), polygon.size());
-  for (const auto& t : result.triangles) {
-    const glm::dvec3 p = polygon[t[0]], q = polygon[t[1]], r = t[2] == polygon.size() ? result.centre : polygon[t[2]];
-    EXPECT_GT(glm::cross(q - p, r - p).z, 0.0);
-  }
-  // The centroid is blind to side a -> k.
-  EXPECT_LT(glm::cross(k - a, (a + b + c) / 3.0 - a).z, 0.0);
-}
-
-// A needle-thin face (its apex almost on its boundary edge) has no trustworthy normal: a fan
-// whose area opposes it is not a fold.
-TEST(PiecesTriangulate, NeedleFaceIsNotJudgedByItsNormal) {
-  const std::vector<glm::dvec3> polygon = {{0, 0, 0}, {0.5, 0.1, 0}, {1, 0, 0}, {0.5, -1e-4, 0}};
-  const std::vector<unsigned> mask = {5 | kOnExterior, 1 | kOnExterior, 3 | kOnExterior, 6};
-  EXPECT_THROW(triangulate_fracture_polygon(polygon, mask, {0, 0, 1}), RunError);
-  const auto fan = triangulate_fracture_polygon(polygon, mask, glm::dvec3(0.0));
-  EXPECT_EQ(fan.triangles.size(), 2u);
 }
 
 }  // namespace

@@ -27,6 +27,7 @@ RefineResult refine(FractureSurface& s, const FieldGrid4& field, double step, do
   o.tau = tau;
   o.delta = 0.01;
   o.step = step;
+  o.tolerance = 1e-4;    // converged: E falls by less than 0.01% in an iteration
   o.rim_motion = true;  // the cube's faces are flat: the rim may slide on them
   return refine_surface(s, field, cube(), *backend, o);
 }

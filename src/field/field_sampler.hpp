@@ -18,17 +18,16 @@ struct FieldGrid4 {
   std::vector<glm::vec4> values;
 };
 
-/// Precomputes the paper's multi-resolution gradient (section 4.2) on the base grid: at every
-/// base node x, ∇ψ(x) = (1/L) Σ_l g_l(x), where g_l is the central difference, with step equal to
-/// level l's cell h_l, of the trilinear interpolation of level l:
-///   g_l(x)·e = (ψ_l(x + h_l e) − ψ_l(x − h_l e)) / (2 h_l),
-/// with points clamped into the level's box. The points are taken in the level's index space,
-/// where base node k sits at level coordinate k / 2^l exactly (and the samples at that ± 1):
-/// the world positions' rounding would give each level's interpolation a few ulps of noise.
-/// The value channel is the matching multi-scale field
-/// ψ̃(x) = (1/L) Σ_l ψ_l(x) (trilinear in each level), so that the energy the refiner measures,
-/// Σ A ψ̃̄, is the one whose gradient the flow follows: with level 0 alone the averaged gradient
-/// is not a descent direction of the measured energy and the flow stalls.
+/// Precomputes the paper's multi-resolution field (section 4.2) on the base grid: at every base
+/// node, the value ψ̃ = (1/L) Σ_l ψ_l (each level's trilinear interpolation, taken in the level's
+/// index space, where base node k sits at level coordinate k / 2^l exactly: the world positions'
+/// rounding would give each level's interpolation a few ulps of noise), and its gradient, the
+/// central difference of ψ̃ one base cell either side (one-sided at the grid's faces). So the
+/// gradient averages the levels' (the coarse levels still reach far), and it is the slope of the
+/// value the refiner samples: the energy it measures, Σ A ψ̃̄, is the one whose gradient the flow
+/// follows. (Each level's own central difference, a level cell either side, is not: on a field
+/// that changes within a coarse cell it differs from the interpolated slope, the step was then
+/// no descent direction of the measured energy, and the flow stalled.)
 /// \pre level 0 dims all >= 2.
 /// \throw InputError when the pyramid is empty or a level is not laid out as build_pyramid_cpu
 ///        builds it (dims of pyramid_level_dims, the base's origin, 2^l times its cell).

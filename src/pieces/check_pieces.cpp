@@ -80,12 +80,7 @@ std::string describe(const PieceSet& set, const PieceSet::Piece& piece, std::siz
   std::string ids;
   for (std::uint32_t v : tri) {
     const std::int64_t o = set.vertex_origin[v];
-    const std::string name = o >= 0 ? "S " + std::to_string(o)
-                             : o == kCrossing ? "crossing " + std::to_string(v)
-                             : o == kRoutePoint ? "route point " + std::to_string(v)
-                             : o == kFaceCentre ? "face centre " + std::to_string(v)
-                                                : "B " + std::to_string(-1 - o);
-    ids += (ids.empty() ? "" : ", ") + name;
+    ids += (ids.empty() ? "" : ", ") + (o >= 0 ? "S " + std::to_string(o) : "B " + std::to_string(-1 - o));
   }
   const glm::dvec3 c = (mesh.positions[mesh.triangles[t][0]] + mesh.positions[mesh.triangles[t][1]] + mesh.positions[mesh.triangles[t][2]]) / 3.0;
   char at[96];

@@ -1,7 +1,6 @@
-// Insertion of the traced points into B (pieces.hpp, step 3, the B side): every B triangle a
-// trace touches is re-triangulated with the trace's segments as constraints.
+// The cut of B along S's rim (pieces.hpp, step 2): every B triangle the rim touches is
+// re-triangulated with the rim's segments as constraints.
 #include <algorithm>
-#include <optional>
 #include <set>
 
 #include "geom/predicates.hpp"
@@ -20,7 +19,7 @@ void sort_edge_points(const ExteriorMesh& m, ExteriorCut& cut) {
     std::sort(points.begin(), points.end());
     for (std::size_t i = 1; i < points.size(); ++i)
       if (points[i].first == points[i - 1].first)
-        throw RunError("exterior edge " + edge_name(m, e) + ": two traced points coincide at " +
+        throw RunError("exterior edge " + edge_name(m, e) + ": two rim points coincide at " +
                        format_point(cut.location[points[i].second].point));
   }
 }
@@ -35,7 +34,7 @@ void check_along_edge(const ExteriorMesh& m, const ExteriorCut& cut, std::uint32
   order.push_back(cut.b_vertex_gid[m.edges[e].y]);
   const auto ia = std::find(order.begin(), order.end(), a), ib = std::find(order.begin(), order.end(), b);
   if (ia == order.end() || ib == order.end() || std::abs(ia - ib) != 1)
-    throw RunError("exterior edge " + edge_name(m, e) + ": a trace runs along it across another traced point");
+    throw RunError("exterior edge " + edge_name(m, e) + ": a rim segment runs along it across another rim point");
 }
 
 using Constraints = std::map<std::uint32_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>>;
@@ -80,7 +79,7 @@ class TriangleCutter {
       for (const auto& [a, b] : *constraints) {
         auto ia = local_.find(a), ib = local_.find(b);
         if (ia == local_.end() || ib == local_.end())
-          throw RunError("exterior triangle " + std::to_string(f) + ": a traced segment ends off the triangle");
+          throw RunError("internal: exterior triangle " + std::to_string(f) + ": a rim segment ends off the triangle");
         input_.constraints.emplace_back(ia->second, ib->second);
       }
     for (const auto& [ga, la] : local_)
@@ -90,40 +89,16 @@ class TriangleCutter {
     try {
       tris = triangulate_cut_triangle(input_);
     } catch (const RunError& e) {
-      std::set<std::pair<std::uint32_t, std::uint32_t>> traced;
-      for (const auto& seg : cut_.segments)
-        if (seg.face == f) traced.emplace(seg.s_from, seg.s_to);
       std::string names;
-      for (const auto& [p, q] : traced) names += (names.empty() ? "" : ", ") + std::to_string(p) + "-" + std::to_string(q);
-      const std::string what = "exterior triangle " + std::to_string(f) + " near " + format_point(m_.positions[t[0]]) +
-                               ": cannot insert the traces of fracture surface boundary edges " + names + ": " + e.what();
-      const ExteriorCut::Segment* pair[2] = {nullptr, nullptr};
-      if (!crossing_pair(f, pair)) throw RunError(what);
-      throw TracesCross(what + " (the traces of " + std::to_string(pair[0]->s_from) + "-" + std::to_string(pair[0]->s_to) +
-                            " and " + std::to_string(pair[1]->s_from) + "-" + std::to_string(pair[1]->s_to) +
-                            " cross near " + format_point(positions_[pair[0]->from]) + ")",
-                        {{glm::uvec2(pair[0]->s_from, pair[0]->s_to), glm::uvec2(pair[1]->s_from, pair[1]->s_to)}});
+      for (const auto& seg : cut_.segments)
+        if (seg.face == f) names += (names.empty() ? "" : ", ") + std::to_string(seg.from) + "-" + std::to_string(seg.to);
+      throw RunError("internal: exterior triangle " + std::to_string(f) + " near " + format_point(m_.positions[t[0]]) +
+                     " cannot be cut along the fracture surface's rim edges " + names + ": " + e.what());
     }
     for (const auto& tri : tris) out.push_back({gids_[tri[0]], gids_[tri[1]], gids_[tri[2]]});
   }
 
  private:
-  // The first two traced segments of f that cross properly in its plane; false when none do.
-  bool crossing_pair(std::uint32_t f, const ExteriorCut::Segment* (&pair)[2]) const {
-    std::vector<const ExteriorCut::Segment*> in_f;
-    for (const auto& seg : cut_.segments)
-      if (seg.face == f && local_.count(seg.from) && local_.count(seg.to)) in_f.push_back(&seg);
-    auto uv = [&](std::uint32_t g) { return input_.uv[local_.at(g)]; };
-    for (std::size_t i = 0; i < in_f.size(); ++i)
-      for (std::size_t j = i + 1; j < in_f.size(); ++j) {
-        const glm::dvec2 a = uv(in_f[i]->from), b = uv(in_f[i]->to), c = uv(in_f[j]->from), d = uv(in_f[j]->to);
-        if (orient2d(a, b, c) * orient2d(a, b, d) >= 0 || orient2d(c, d, a) * orient2d(c, d, b) >= 0) continue;
-        pair[0] = in_f[i], pair[1] = in_f[j];
-        return true;
-      }
-    return false;
-  }
-
   std::uint32_t add(std::uint32_t gid, glm::dvec2 uv) {
     const std::uint32_t id = std::uint32_t(gids_.size());
     gids_.push_back(gid);
@@ -167,8 +142,6 @@ std::vector<std::array<std::uint32_t, 3>> cut_exterior(const ExteriorMesh& m, Ex
   std::vector<std::array<std::uint32_t, 3>> out;
   out.reserve(m.triangles.size() + 4 * touched.size());
   TriangleCutter cutter(m, cut, positions, delaunay);
-  std::optional<std::string> first_crossing;
-  std::vector<std::array<glm::uvec2, 2>> crossing;
   for (std::uint32_t f = 0; f < m.triangles.size(); ++f) {
     const auto& t = m.triangles[f];
     if (!touched.count(f)) {
@@ -176,16 +149,8 @@ std::vector<std::array<std::uint32_t, 3>> cut_exterior(const ExteriorMesh& m, Ex
       continue;
     }
     auto it = inside.find(f);
-    try {
-      cutter.cut(f, it == inside.end() ? nullptr : &it->second, out);
-    } catch (const TracesCross& crossed) {  // the build starts again: find them all now
-      if (!first_crossing) first_crossing = crossed.what();
-      crossing.insert(crossing.end(), crossed.pairs.begin(), crossed.pairs.end());
-    }
+    cutter.cut(f, it == inside.end() ? nullptr : &it->second, out);
   }
-  if (first_crossing)
-    throw TracesCross(*first_crossing + (crossing.size() > 1 ? " and " + std::to_string(crossing.size() - 1) + " more" : ""),
-                      std::move(crossing));
   return out;
 }
 

@@ -1,76 +1,27 @@
 #pragma once
 // Watertight high-resolution pieces (paper section 5, "Exterior surface generation";
-// docs/DESIGN.md, pipeline step 5): the exterior B is cut along the boundary of the refined fracture
+// docs/DESIGN.md, pipeline step 5): the exterior B is cut along the rim of the refined fracture
 // surface S, split into patches, and every patch is merged with the faces of S that bound the
 // same piece, giving one closed, edge-manifold, outward mesh per piece. Neighbouring pieces
 // share their fracture vertices exactly (same index in one shared position array).
 //
-// Method (build_pieces):
-//  0. Repair. Boundary edges of S shorter than PieceOptions::merge_tolerance are contracted
-//     and faces lying flat on B are left out (see PieceOptions), on a copy of S; a rim vertex
-//     one of whose inner edges leaves it outside B (S overshooting a concave B) is moved along
-//     that edge to where it enters B.
-//  1. Snap. Every boundary vertex of S (kVertexBoundary) is located on B by a closest-point
-//     query: a B vertex, a point of a B edge or a point inside a B triangle (barycentric weights
-//     below PieceOptions::location_epsilon are zeroed). Its position becomes that point.
-//  2. Trace. Each boundary edge (p, q) of S, in the winding of its one face, is traced across
-//     B's triangles along the intersection of B with the plane through p and q that contains the
-//     mean of B's normals at p and q (the plane is perpendicular to B there, so the curve is the
-//     "straightest" path, a discrete geodesic for short edges). The walk goes from triangle to
-//     triangle through the crossings of that plane with B's edges; B vertices within
-//     plane_epsilon of the plane count as on it, so a trace may run through B vertices and along
-//     B edges (an S boundary edge lying on a B edge) without creating slivers. When the walk
-//     cannot reach q (a non-convex B folding away from the plane) it is retried with the normal
-//     at p alone, then at q alone, before giving up.
-// 2b. Untangle. Where the boundary of S doubles back on B (a spike whose two sides run a hair
-//     apart, a zigzag of short edges), the trace of one edge can pass points of its neighbours'
-//     traces on the wrong side and cross them (by float noise, or because a long edge's plane
-//     cut bends away from its chord). Traces that cross or touch are found exactly
-//     (orientation tests in each B triangle's barycentric plane). The right side is taken where
-//     the neighbouring traces are farthest from the trace (within a tenth of its chord), and
-//     the trace is re-traced leg by leg through route points on B a small offset past every
-//     neighbouring point it passed on the wrong side or too closely. Repeated until no conflict
-//     is left or none can be resolved. Traces that still cross in a B triangle's
-//     re-triangulation (step 3) start the build again with the rim vertex the two edges share
-//     (a zigzag of the rim) contracted into its nearer neighbour, or with the shorter edge
-//     contracted, each contraction tried once.
-//  3. Insert. The crossings become new vertices shared by B and S: each cut B triangle is
-//     re-triangulated in its own barycentric plane (a constrained triangulation, exact
-//     orientation tests, Delaunay flips for shape), and each face of S on a traced edge becomes
-//     a polygon re-triangulated by ear clipping (never a triangle lying along B: for one cut edge
-//     this is the fan from the opposite corner; a face with all corners on B whose trace bends
-//     over a crease of B is fanned from its centroid, see FaceCentre). The polygon must keep
-//     the face's orientation (not judged for a needle-thin face, whose normal is noise). A face
-//     with two or three boundary edges whose polygon cannot be triangulated (its traces wind
-//     around its chord over bumps of B) is left out like a flap, and one with one boundary edge
-//     has that edge re-traced in the plane through it along the face's normal (the fan then sees
-//     the trace where it sees the edge); either way the build starts again.
-// 3b. Push. Where S crosses B near its rim (it hugs B, or B is concave under it), a fracture
-//     triangle with a corner on B pokes out of B (sampled on a grid): the build starts again
-//     with its S vertices off B pushed into B from the deepest poke toward its closest point on
-//     B (not along the normal nearest the vertex: on a thin B the poke may cross the far side),
-//     a quarter farther than each alone would have to go to take the deepest poke back, at most
-//     the vertex's shortest edge over 8 rounds, and only while S stays free of
-//     self-intersections; a vertex that would have to go farther is contracted into its nearest
-//     neighbour instead, and when that contraction is refused, into the next nearest, and so
-//     on. (Step 0 already moved every rim vertex whose inner edge leaves it
-//     outside B to where that edge enters B, unless S would then cross itself.)
-// 3c. Clashes. The fracture triangles and the cut B triangles are tested for intersections
-//     exactly (the grid of 3b can miss a thin poke). A fracture triangle through a B triangle
-//     pushes its S vertices off B as in 3b (a tenth of their shortest edge per round, along the
-//     inward normal of the B triangles crossed); two
-//     fracture triangles through each other (a pleat of S next to the rim: tiny faces folded
-//     onto each other, crossed once the traces bend the rim faces toward B) start the build
-//     again with the shortest edge at their S vertices off B contracted (one per attempt, only
-//     while S stays valid and free of self-intersections); when every such edge has been tried,
-//     those vertices move a quarter further toward the centroid of their neighbours per attempt,
-//     up to all the way, again only while S stays free of self-intersections.
-//  4. Patches. The cut B is flood-filled across its edges that are not on a trace. A patch face
-//     using the directed cut edge (x, y) in the winding direction of the S face on that edge
-//     belongs to that face's front piece, in the opposite direction to its back piece; every cut
-//     edge of a patch must agree. A B component no trace touches goes to the piece on the side of
-//     the S face nearest to it (to piece 0 when S has no faces).
-//  5. Merge. Each piece is its patches (inside = 0) plus its S faces wound outward (inside = 1).
+// Method (build_pieces), one pass, no repair: the refiner keeps S's rim embedded in B
+// (rim/rim_on_b.hpp): every rim vertex has a location on B and every rim edge lies in one
+// triangle of B.
+//  1. Vertices. S's vertices (the rim ones at their locations, exactly on B), then B's vertices
+//     less those a rim vertex lies on (that rim vertex takes their place).
+//  2. Cut. Every B triangle that holds rim points is re-triangulated in its own barycentric
+//     plane: a constrained triangulation with the rim segments as constraints, exact
+//     orientation tests, Delaunay flips for shape (rim points on a B edge are shared by both
+//     triangles of that edge, with exactly collinear coordinates).
+//  3. Patches. The cut B is flood-filled across its edges that are not rim segments. A patch
+//     face using the directed rim segment (x, y) in the winding direction of the S face on that
+//     edge belongs to that face's front piece, in the opposite direction to its back piece;
+//     every rim segment of a patch must agree. A B component the rim does not touch goes to the
+//     piece on the side of the S face nearest to it (to piece 0 when S has no faces).
+//  4. Merge. Each piece is its patches (inside = 0) plus its S faces wound outward (inside = 1).
+// What cannot be made (rim segments that cross in a B triangle, a patch between two pieces) is
+// an internal error naming the triangle or point: the refiner's edits are meant to exclude it.
 #include <array>
 #include <cstdint>
 #include <filesystem>
@@ -82,123 +33,50 @@
 #include <glm/glm.hpp>
 
 #include "io/mesh_soup.hpp"
+#include "rim/rim_on_b.hpp"
 #include "surface/fracture_surface.hpp"
 #include "util/parallel.hpp"
 
 namespace fracref {
 
-/// vertex_origin value of a vertex inserted where a trace crosses a B edge.
-inline constexpr std::int64_t kCrossing = std::numeric_limits<std::int64_t>::min();
-
-/// vertex_origin value of a vertex added at the centroid of a fracture face (see FaceCentre).
-inline constexpr std::int64_t kFaceCentre = kCrossing + 1;
-
-/// vertex_origin value of a route point inside a B triangle (see RoutePoint).
-inline constexpr std::int64_t kRoutePoint = kCrossing + 2;
-
-/// A vertex added inside a face of S whose corners all lie on B and whose traced boundary bends
-/// over a crease of B: no triangle among the face's own points would stay off B. It is the
-/// centroid of the corners, or, for a needle-thin face whose centroid does not see every side,
-/// another point of the face's triangle.
-struct FaceCentre {
-  std::uint32_t vertex = 0;               ///< index in PieceSet::positions
-  std::uint32_t s_face = 0;               ///< the face of S (input numbering)
-  std::array<std::uint32_t, 3> corners{};  ///< its S vertices
-  glm::dvec3 weights{1.0 / 3.0};          ///< the point is the sum of weights[k] x corners[k]
-};
-
-/// A vertex inserted by the cut, where the trace of an S boundary edge crosses an edge of B.
-struct CrossingPoint {
-  std::uint32_t vertex = 0;          ///< index in PieceSet::positions
-  std::uint32_t s_from = 0, s_to = 0;  ///< the S boundary edge, in the direction it was traced
-  double along = 0.0;                ///< fraction of the trace's length from s_from, in (0, 1)
-  std::uint32_t b_from = 0, b_to = 0;  ///< the crossed B edge (b_from < b_to)
-  double t = 0.0;                    ///< the point is b_from + t (b_to - b_from), t in (0, 1)
-};
-
-/// A vertex inside a B triangle through which the trace of an S boundary edge was re-routed to
-/// keep clear of the trace of a neighbouring boundary edge (step 2b). Like a crossing point it
-/// lies on B and on the side of the S face of that edge. (A route point that lands on a B edge
-/// is recorded as a CrossingPoint, one that lands on a B vertex is that vertex.)
-struct RoutePoint {
-  std::uint32_t vertex = 0;            ///< index in PieceSet::positions
-  std::uint32_t s_from = 0, s_to = 0;  ///< the S boundary edge, in the direction it was traced
-  double along = 0.0;                  ///< fraction of the trace's length from s_from, in (0, 1)
-  std::uint32_t b_face = 0;            ///< the B triangle holding it
-  glm::dvec3 bary{0.0};                ///< weights of b_face's corners at the point
-  std::uint32_t clear_from = 0, clear_to = 0;  ///< the S boundary edge whose trace it keeps clear of
-};
-
 /// One closed mesh per piece, all indexing one shared vertex array.
 struct PieceSet {
   /// Every vertex of every piece. Index layout: [0, S vertices) are the vertices of S in their
-  /// order (boundary ones moved onto B, those pushed inward by step 3b moved, the others
-  /// converted to double as they are); then the
-  /// vertices of B in their order, less those an S vertex was snapped onto (that S vertex takes
-  /// their place); then the crossing points and route points, in the order of the traces
-  /// (each list in `crossings` and `route_points` ascending); then the face centres, in the
-  /// order of `face_centres`.
+  /// order (rim ones at their locations on B, the others converted to double as they are); then
+  /// the vertices of B in their order, less those a rim vertex lies on.
   std::vector<glm::dvec3> positions;
   struct Piece {
     std::vector<std::array<std::uint32_t, 3>> triangles;  ///< indices into positions, outward
     std::vector<std::uint8_t> inside;  ///< per triangle: 1 = fracture face (from S), 0 = exterior (from B)
   };
   std::vector<Piece> pieces;  ///< index = piece id of S
-  /// Per position: >= 0 the S vertex it is; -1 - b for B vertex b; kCrossing for a crossing
-  /// point (described by `crossings`); kRoutePoint for a route point (`route_points`);
-  /// kFaceCentre for a face centre (`face_centres`).
+  /// Per position: >= 0 the S vertex it is; -1 - b for B vertex b.
   std::vector<std::int64_t> vertex_origin;
-  std::vector<CrossingPoint> crossings;  ///< ascending vertex
-  std::vector<RoutePoint> route_points;  ///< ascending vertex
-  std::vector<FaceCentre> face_centres;  ///< ascending vertex
-  std::uint32_t s_vertex_count = 0;      ///< vertices of S (the first positions)
-  std::uint32_t snapped_to_b_vertex = 0; ///< S boundary vertices that landed on a B vertex
-  std::uint32_t boundary_edges_merged = 0;  ///< short boundary edges of S contracted (their
-                                            ///< removed end stays in positions, unused)
-  std::uint32_t flaps_removed = 0;          ///< faces of S lying flat on B, left out
-  std::uint32_t rim_retracted = 0;          ///< S boundary vertices moved to where S enters B (step 0)
-  std::uint32_t pushed_inward = 0;          ///< S vertices off B moved inward by step 3b
-  std::uint32_t relaxed = 0;                ///< S vertices off B moved toward their neighbours (step 3c)
-  std::uint32_t attempts = 1;               ///< builds made (the last succeeded; see steps 3 to 3c)
-  std::uint32_t contracted = 0;             ///< S edges at a fold or a crossing of traces contracted (step 3c; the removed
-                                            ///< end stays in positions, unused)
-  std::uint32_t traces_rerouted = 0;        ///< route points added by step 2b (each a
-                                            ///< RoutePoint, a CrossingPoint or a B vertex)
+  std::uint32_t s_vertex_count = 0;       ///< vertices of S (the first positions)
+  std::uint32_t snapped_to_b_vertex = 0;  ///< rim vertices of S that lie on a B vertex
+  std::uint32_t rim_points_added = 0;     ///< vertices embed_rim added (the MeshSoup overload only)
 };
 
 struct PieceOptions {
-  /// Largest distance of an S boundary vertex from B, relative to B's bounding-box diagonal.
-  /// The refiner projects in float (about 1e-7 off); farther means S does not end on B.
-  double snap_tolerance = 1e-4;
-  /// Barycentric weights below this are zeroed when locating an S vertex on B, so a vertex
-  /// that was meant to lie on a B edge or vertex (up to float noise) lands exactly on it.
-  double location_epsilon = 1e-6;
-  /// B vertices closer than this (relative to B's diagonal) to a trace's plane are on it.
-  double plane_epsilon = 1e-9;
   bool delaunay = true;  ///< improve the re-triangulated B triangles by Delaunay flips
-  /// Boundary edges of S shorter than this (relative to B's diagonal) are contracted before
-  /// the cut (0 = never): two boundary vertices a hair apart leave a face that would have to
-  /// lie in B wherever the next trace bends over a crease.
-  double merge_tolerance = 1e-4;
-  /// Remove faces of S with two or three boundary edges that lie flat on B, are needle-thin or
-  /// cannot be re-triangulated (flaps): they bound no volume and would fold a piece onto itself.
-  bool remove_flaps = true;
+  rim::EmbedOptions embed;  ///< for the overload that embeds the rim itself
 };
 
-/// Cuts B along the boundary of S and builds one closed mesh per piece of S (see the file
-/// comment for the method).
-/// \throw InputError when `exterior` has no triangles, an index out of range, a non-finite
-///        coordinate, an edge that does not have exactly two faces in opposite directions, or
-///        a negative volume (wound inward).
-/// \throw RunError "the fracture surface is not valid: <validate()'s message>" when S breaks an
-///        invariant once its derived arrays are rebuilt.
-/// \throw RunError naming the S vertex, S edge, S face or B triangle when S does not fit B:
-///        a boundary vertex of S farther than snap_tolerance from B, two S vertices on the same
-///        point of B, a trace that cannot reach its end, traces that cross or touch (after step
-///        2b), a face whose polygon cannot be triangulated (after the retries of step 3), faces
-///        still poking out of B after the pushes of step 3b (or a push that would make S
-///        intersect itself), triangles still intersecting after the retries of step 3c, a patch
-///        that borders two different pieces.
+/// Cuts B along S's rim and builds one closed mesh per piece of S (see the file comment).
+/// \pre every rim vertex of S has its location in `rim`, and every rim edge lies in one triangle
+///      of B (rim::find_unembedded_rim is empty); S valid.
+/// 	hrow RunError "the fracture surface is not valid: <validate()'s message>" when S breaks an
+///        invariant once its derived arrays are rebuilt; RunError naming the rim edge when the
+///        precondition does not hold; an internal RunError naming the B triangle or point when the
+///        rim segments cross in a B triangle or a patch borders two pieces.
+PieceSet build_pieces(const FractureSurface& s, const rim::ExteriorMesh& exterior, const rim::RimOnB& rim,
+                      const PieceOptions& options = {});
+
+/// build_pieces for an S whose rim lies on B but is not embedded yet (a coarse S, a test's
+/// surface): a copy of S has its rim embedded (rim::embed_rim; its added vertices come after S's
+/// own in PieceSet::positions, counted in rim_points_added), then the pieces are built.
+/// 	hrow InputError when `exterior` is not a closed, manifold, outward mesh (rim::make_exterior_mesh);
+///        RunError as rim::embed_rim and the overload above.
 PieceSet build_pieces(const FractureSurface& s, const MeshSoup& exterior, const PieceOptions& options = {});
 
 /// What check_pieces finds about one piece.

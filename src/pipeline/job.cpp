@@ -223,7 +223,7 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
     return report.finish(out, seconds_since(t0), [&] { return preview_surface(s, exterior_mesh); });
   progress("pieces", 0.0, "cutting the exterior");
   const auto t_pieces = Clock::now();
-  PieceSet pieces = build_pieces(s, exterior_mesh);
+  PieceSet pieces = build_pieces(s, b.mesh, refined.rim);
   PieceReport checked = check_pieces(pieces, exterior_mesh);
   report.pieces(pieces, checked);
   require_valid_pieces(checked);

@@ -84,15 +84,7 @@ void JobReport::pieces(const PieceSet& pieces, const PieceReport& checked) {
                      {"points_tested", checked.points_tested}, {"points_in_no_piece", checked.points_in_no_piece},
                      {"points_in_several_pieces", checked.points_in_several_pieces}};
   j_["pieces_ok"] = checked.ok();
-  j_["pieces_repairs"] = {{"attempts", pieces.attempts},
-                          {"boundary_edges_merged", pieces.boundary_edges_merged},
-                          {"flaps_removed", pieces.flaps_removed},
-                          {"rim_retracted", pieces.rim_retracted},
-                          {"pushed_inward", pieces.pushed_inward},
-                          {"relaxed", pieces.relaxed},
-                          {"contracted", pieces.contracted},
-                          {"traces_rerouted", pieces.traces_rerouted},
-                          {"snapped_to_exterior_vertex", pieces.snapped_to_b_vertex}};
+  j_["rim_on_exterior_vertices"] = pieces.snapped_to_b_vertex;
 }
 
 void JobReport::animated(const AnimationTransfer& transfer, std::size_t frames_written) {

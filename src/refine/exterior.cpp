@@ -74,6 +74,7 @@ ExteriorSurface make_exterior(const MeshSoup& mesh, const std::string& what) {
   b.ccd = ccd.get();
   b.bbox_min = st.bbox_min;
   b.bbox_max = st.bbox_max;
+  b.mesh = rim::make_exterior_mesh(mesh);
   return b;
 }
 

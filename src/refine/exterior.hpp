@@ -8,6 +8,7 @@
 #include "geom/bvh.hpp"
 #include "geom/ccd.hpp"
 #include "io/mesh_soup.hpp"
+#include "rim/exterior_mesh.hpp"
 
 namespace fracref {
 
@@ -15,6 +16,7 @@ struct ExteriorSurface {
   Bvh bvh;                         ///< keeps B's positions and triangles
   StaticCcdMesh ccd;               ///< B prepared once for continuous collision detection
   glm::dvec3 bbox_min{0.0}, bbox_max{0.0};
+  rim::ExteriorMesh mesh;          ///< B's adjacency, for S's rim embedded in B (empty: built on use)
 
   double diagonal() const { return glm::length(bbox_max - bbox_min); }
   glm::dvec3 closest_point(const glm::dvec3& p) const { return fracref::closest_point(bvh, p).point; }

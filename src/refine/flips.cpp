@@ -331,8 +331,11 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
     // Neither face has changed since the candidate was found, nor has the (stale) edge table, so
     // flip_edge would find this very quad again: the flip is made from it directly.
     const glm::uvec2 e = s.edges[c.edge];
-    s.faces[c.faces.x] = glm::uvec4(c.opposite.x, e.x, c.opposite.y, 0u);
-    s.faces[c.faces.y] = glm::uvec4(c.opposite.y, e.y, c.opposite.x, 0u);
+    const glm::uvec4 f0(c.opposite.x, e.x, c.opposite.y, 0u), f1(c.opposite.y, e.y, c.opposite.x, 0u);
+    if (o.reject_diagonal && o.reject_diagonal(c.opposite.x, c.opposite.y)) continue;
+    if (o.reject_face && (o.reject_face(f0) || o.reject_face(f1))) continue;
+    s.faces[c.faces.x] = f0;
+    s.faces[c.faces.y] = f1;
     created.insert(diagonal);
     used[c.faces.x] = used[c.faces.y] = 1;
     owner[c.faces.x] = owner[c.faces.y] = std::int32_t(made.size());

@@ -2,6 +2,7 @@
 // Edge flips that remove slim triangles (paper 4.4) without changing the shape or raising the
 // energy, never on special (boundary or non-manifold) edges.
 #include <cstddef>
+#include <functional>
 #include <span>
 
 #include <glm/glm.hpp>
@@ -16,6 +17,12 @@ struct FlipOptions {
   double min_angle = 20.0;     ///< degrees: only edges of a face with a smaller angle are candidates
   double max_dihedral = 25.0;  ///< degrees: the two faces must be this close to coplanar
   int threads = default_threads();             ///< for the exact guard's tests (the result does not depend on it)
+  /// When set, a flip is not made when this holds for one of its two new faces (the refiner's
+  /// contact rule with B: refine/exterior_contact.hpp).
+  std::function<bool(const glm::uvec4& face)> reject_face;
+  /// When set, a flip is not made when this holds for its new edge (the refiner: a chord, an
+  /// interior edge between two vertices on B, which a flip on a flat part of B would lay on B).
+  std::function<bool(std::uint32_t a, std::uint32_t b)> reject_diagonal;
 };
 
 /// One pass over the regular edges in id order: flips an edge when one of its faces has an angle

@@ -3,14 +3,18 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 
 #include "field/field_sampler.hpp"
+#include "geom/intersect.hpp"
 #include "flow/implicit_step.hpp"
 #include "util/parallel.hpp"
 #include "refine/collisions.hpp"
 #include "refine/containment.hpp"
 #include "refine/flips.hpp"
+#include "refine/exterior_contact.hpp"
 #include "refine/motion_filters.hpp"
+#include "refine/rim_collar.hpp"
 #include "refine/samples.hpp"
 #include "refine/step_guard.hpp"
 #include "util/error.hpp"
@@ -32,6 +36,8 @@ constexpr double kConformTolerance = 2e-4;  // of the diagonal
 constexpr int kConformPasses = 8;
 // Passes of split_rim_chords after the loop (a pass splits each face at most once).
 constexpr int kChordPasses = 4;
+// Barycentric weights below this are zeroed where a rim vertex slides on B (Refiner::slid_rim).
+constexpr double kSlideSnap = 1e-3;
 // Threads judging the split samples (the verdicts do not depend on it).
 
 using Clock = std::chrono::steady_clock;
@@ -41,7 +47,14 @@ class Refiner {
  public:
   Refiner(FractureSurface& s, const FieldGrid4& field, const ExteriorSurface& b, ComputeBackend& be,
           const RefineOptions& o)
-      : s_(s), field_(field), b_(b), be_(be), o_(o) {}
+      : s_(s), field_(field), b_(b), be_(be), o_(o) {
+    if (b.mesh.triangles.empty()) {
+      MeshSoup soup;
+      soup.positions = b.bvh.positions;
+      soup.triangles = b.bvh.triangles;
+      own_mesh_ = rim::make_exterior_mesh(soup);
+    }
+  }
 
   RefineResult run(const RefineProgress& progress);
 
@@ -52,6 +65,16 @@ class Refiner {
   double energy() const { return surface_energy(view(), samples_); }
   StepGuardOptions step_guard_options() const;
   void conform_boundary();
+  const rim::ExteriorMesh& mesh() const { return b_.mesh.triangles.empty() ? own_mesh_ : b_.mesh; }
+  void embed_rim();
+  void reembed_rim();
+  rim::RimOnB slid_rim(const std::vector<glm::vec4>& x) const;
+  void snap_slid_rim(std::vector<glm::vec4>& x) const;
+  void locate_new_rim_vertices();
+  std::vector<std::uint32_t> new_crossings(const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
+                                           const std::vector<float>& clearance) const;
+  std::size_t hold_exterior_crossings(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1,
+                                      const std::vector<float>& clearance) const;
   // Containment splits: lengths in the scene's unit, nothing split below the sample spacing.
   TuckOptions tuck_options() const { return {.scale = o_.scale, .min_edge = o_.delta}; }
   bool flow_step(double ceiling, IterationStats& st);
@@ -83,6 +106,8 @@ class Refiner {
   const ExteriorSurface& b_;
   ComputeBackend& be_;
   RefineOptions o_;
+  rim::ExteriorMesh own_mesh_;  // B's mesh when the ExteriorSurface came without one
+  rim::RimOnB rim_;             // where S's rim vertices lie on B (rim/rim_on_b.hpp)
   RefinementTree tree_;
   std::vector<glm::vec4> samples_, velocity_;
   double dt_ = 0.0;               // the flow's time step (see kDefaultStep)
@@ -133,6 +158,7 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
   std::vector<glm::vec4> full = x0;
   for (std::size_t i = 0; i < x0.size(); ++i) full[i] = glm::vec4(glm::vec3(x0[i]) + glm::vec3(d[i]), 1.0f);
   apply_boundary_constraint(s_, b_, x0, full);
+  if (o_.rim_motion) snap_slid_rim(full);
   const StepGuardOptions guard = step_guard_options();
   hold_folding_motion(s_, x0, full, guard);
   const auto t_ccd = Clock::now();
@@ -145,6 +171,30 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
     clearance_ = clearance_x0;
     st.collisions_stopped += apply_collision_constraints(s_, b_, x0, full, &clearance_);
   }
+  std::vector<float> bound;
+  auto bounds = [&] {
+    bound.resize(clearance_.size());
+    for (std::size_t i = 0; i < bound.size(); ++i)
+      bound[i] = i < clearance_x0.size() ? std::min(clearance_[i], clearance_x0[i]) : clearance_[i];
+  };
+  bounds();
+  // Holding the vertices of faces that would cross B can expose a collision of S with itself as
+  // holding for the collisions can (see above): the collisions run again, and so on until neither
+  // holds anything more (each round only holds vertices, so it ends).
+  for (;;) {
+    const std::size_t held = hold_exterior_crossings(x0, full, bound);
+    st.collisions_stopped += held;
+    if (held == 0 || !o_.collisions) break;
+    clearance_ = clearance_x0;
+    std::size_t more = apply_collision_constraints(s_, b_, x0, full, &clearance_);
+    while (hold_folding_motion(s_, x0, full, guard) > 0) {
+      clearance_ = clearance_x0;
+      more += apply_collision_constraints(s_, b_, x0, full, &clearance_);
+    }
+    st.collisions_stopped += more;
+    bounds();
+    if (more == 0) break;
+  }
   st.phases.flow_collisions = seconds_since(t_ccd);
   // Backtracking shortens the constrained, collision-free motion: every vertex then follows the
   // first part of the same straight path, which is collision-free too (boundary vertices are
@@ -154,7 +204,9 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
     std::vector<glm::vec4> x1 = x0;
     for (std::size_t i = 0; i < x0.size(); ++i) x1[i] = x0[i] + fraction * (full[i] - x0[i]);
     if (attempt > 0) apply_boundary_constraint(s_, b_, x0, x1);
+    if (o_.rim_motion) snap_slid_rim(x1);
     if (attempt > 0 && motion_folds(s_, x0, x1, guard)) continue;
+    if (attempt > 0 && !new_crossings(x0, x1, bound).empty()) continue;
     s_.positions = x1;
     std::vector<glm::vec4> trial(x1.size()), vel(x1.size());
     be_.vertex_velocities(view(), trial, vel);
@@ -170,6 +222,7 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
       samples_ = std::move(trial);
       velocity_ = std::move(vel);
       shorten_clearance(full, x1);
+      if (o_.rim_motion) rim_ = slid_rim(x1);
       return true;
     }
   }
@@ -463,6 +516,113 @@ void Refiner::conform_boundary() {
   }
 }
 
+// The faces that meet B at x1 other than at their rim points (refine/exterior_contact.hpp) and
+// have a corner that moved from x0.
+std::vector<std::uint32_t> Refiner::new_crossings(const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
+                                                  const std::vector<float>& clearance) const {
+  std::vector<std::uint32_t> bad = o_.rim_motion ? faces_crossing_exterior(s_, x1, mesh(), slid_rim(x1), clearance)
+                                                 : faces_crossing_exterior(s_, x1, mesh(), rim_, clearance);
+  // A face the rule flags at x0 already (it is conservative where a rim point lies on a concave
+  // B edge: the face is inside B but not inside both planes) must not move either: the rule could
+  // not tell when it goes through B. So every flagged face with a moved corner counts.
+  std::vector<std::uint32_t> moved;
+  for (std::uint32_t f : bad) {
+    const glm::uvec4 t = s_.faces[f];
+    if (x1[t.x] != x0[t.x] || x1[t.y] != x0[t.y] || x1[t.z] != x0[t.z]) moved.push_back(f);
+  }
+  return moved;
+}
+
+// S meets B only at its rim: the vertices of a face the step would take across B stay at x0,
+// until no new crossing is left (with every vertex held, S is x0's).
+std::size_t Refiner::hold_exterior_crossings(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1,
+                                             const std::vector<float>& clearance) const {
+  std::size_t held = 0;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::uint32_t f : new_crossings(x0, x1, clearance))
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = s_.faces[f][k];
+        if (x1[v] == x0[v]) continue;
+        x1[v] = x0[v];
+        ++held;
+        changed = true;
+      }
+  }
+  return held;
+}
+
+// S's rim is embedded in B once, after the conforming splits (fewer traces to walk), and S is
+// trimmed to B there (rim/trim_to_exterior.hpp): from then on a rim edge is only split at a point
+// of its own segment, in the same triangle of B, and the contact rule keeps S's faces off B.
+void Refiner::embed_rim() {
+  rim::Embedding e = rim::embed_rim(s_, mesh());
+  for (const rim::EmbeddedVertex& a : e.added) {
+    tree_.parents.push_back(glm::uvec3(a.parents[0], a.parents[1], a.parents[2]));
+    tree_.weights.push_back(glm::vec3(a.weights));
+  }
+  rim_ = std::move(e.rim);
+}
+
+// With rim_motion the flow slides rim vertices on B (apply_boundary_constraint projects them);
+// each keeps a location: where it lands on B (its closest point). A weight below kSlideSnap is
+// zeroed, so a vertex that slides a hair past a B edge stays on it: otherwise the rim edge to it
+// would be split a hair from its end (reembed_rim), a near-duplicate vertex.
+// \pre x of S's vertices, rim vertices on B.
+rim::RimOnB Refiner::slid_rim(const std::vector<glm::vec4>& x) const {
+  rim::RimOnB out = rim_;
+  for (std::size_t v = 0; v < x.size() && v < out.on_b.size(); ++v) {
+    if (!out.on_b[v] || glm::vec3(x[v]) == glm::vec3(out.at[v].point)) continue;
+    double distance = 0.0;
+    out.at[v] = rim::locate_on_exterior(mesh(), glm::dvec3(glm::vec3(x[v])), kSlideSnap, &distance);
+  }
+  return out;
+}
+
+// Rim vertices of x moved to their slid locations (slid_rim), so that S's positions, the contact
+// rule and the pieces see the same rim.
+void Refiner::snap_slid_rim(std::vector<glm::vec4>& x) const {
+  const rim::RimOnB slid = slid_rim(x);
+  for (std::size_t v = 0; v < x.size() && v < slid.on_b.size(); ++v)
+    if (slid.on_b[v]) x[v] = glm::vec4(glm::vec3(slid.at[v].point), 1.0f);
+}
+
+// A rim vertex that slid into another triangle of B leaves its rim edges across B's edges: they
+// are split where they cross them, as the rim was embedded at the start (embed_rim), before the
+// iteration's splits, which split a rim edge only inside its triangle. The new vertices get what
+// the refiner keeps per vertex (tree entry, last move, clearance, sample, velocity).
+void Refiner::reembed_rim() {
+  if (rim::find_unembedded_rim(s_, mesh(), rim_).empty()) return;
+  embed_rim();
+  inherit_moves();
+  inherit_clearance(s_, tree_, clearance_);
+  evaluate();
+}
+
+// Rim vertices made by splits since the last call lie on their rim edge's segment: their
+// location is the point of that segment at the split's weight (the tree's), and their position
+// that location's point.
+void Refiner::locate_new_rim_vertices() {
+  const std::size_t first = rim_.at.size();
+  rim_.at.resize(s_.positions.size());
+  rim_.on_b.resize(s_.positions.size(), 0);
+  for (std::size_t v = first; v < s_.positions.size(); ++v) {
+    if (!(s_.vertex_flags[v] & kVertexBoundary)) continue;
+    const glm::uvec3 p = tree_.parents[v];
+    const glm::vec3 w = tree_.weights[v];
+    int ends[3], n = 0;
+    for (int k = 0; k < 3; ++k)
+      if (w[k] != 0.0f) ends[n++] = k;
+    const int a = ends[0], b = n == 2 ? ends[1] : ends[0];
+    if (n != 2 || !rim_.on_b[p[a]] || !rim_.on_b[p[b]])
+      throw RunError("internal: rim vertex " + std::to_string(v) + " was split off a rim edge without a location on the exterior");
+    const double t = double(w[b]) / (double(w[a]) + double(w[b]));
+    rim_.at[v] = rim::split_location(mesh(), rim_, p[a], p[b], t);
+    rim_.on_b[v] = 1;
+    s_.positions[v] = glm::vec4(glm::vec3(rim_.at[v].point), 1.0f);
+  }
+}
+
 // Splits, flips, then one flow step that moves the new vertices with the others. The splits may
 // raise E a little (ψ at a sample is not the interpolation of its corners'), so the step must
 // bring E to at most `e_before`, the energy the iteration started at; when no step does, the
@@ -471,14 +631,28 @@ void Refiner::conform_boundary() {
 IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   IterationStats st;
   const auto t0 = Clock::now();
+  if (o_.rim_motion) reembed_rim();
   const FractureSurface s_before = s_;
   const std::vector<glm::vec4> samples_before = samples_, velocity_before = velocity_;
   const std::vector<glm::vec3> moves_before = last_move_;
   st.splits = refine_step(it);
+  locate_new_rim_vertices();
   sample_new_vertices();
   st.phases.splits = seconds_since(t0);
   auto t1 = Clock::now();
-  st.flips = flip_slim_triangles(s_, samples_, b_, FlipOptions{o_.min_angle});
+  FlipOptions flip_options;
+  flip_options.min_angle = o_.min_angle;
+  flip_options.reject_face = [&](const glm::uvec4& f) {
+    return face_crosses_exterior(f, s_.positions, mesh(), rim_, clearance_);
+  };
+  // A chord on B (a flat part of B holds both its ends): S's faces would lie on B there.
+  flip_options.reject_diagonal = [&](std::uint32_t a, std::uint32_t b) {
+    if (!rim_.on_b[a] || !rim_.on_b[b] || !(s_.vertex_flags[a] & kVertexBoundary) || !(s_.vertex_flags[b] & kVertexBoundary))
+      return false;
+    const glm::dvec3 mid = 0.5 * (rim_.at[a].point + rim_.at[b].point);
+    return closest_point(mesh().bvh, mid).squared_distance <= std::pow(1e-6 * mesh().diagonal, 2);
+  };
+  st.flips = flip_slim_triangles(s_, samples_, b_, flip_options);
   st.phases.flips = seconds_since(t1);
   t1 = Clock::now();
   if (st.splits + st.flips > 0) evaluate();
@@ -493,6 +667,7 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
     samples_ = samples_before, velocity_ = velocity_before, last_move_ = moves_before;
     tree_.parents.resize(s_.positions.size()), tree_.weights.resize(s_.positions.size());
     clearance_.resize(s_.positions.size());
+    rim_.at.resize(s_.positions.size()), rim_.on_b.resize(s_.positions.size());
     st.splits = st.flips = 0;
     st.energy = e_before;  // S is the one e_before was measured on
   }
@@ -522,6 +697,9 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   project_boundary_vertices(s_, b_);
   conform_boundary();
   tuck_inside(s_, tree_, b_, tuck_options());
+  embed_rim();
+  collar_rim(s_, tree_, mesh(), rim_);
+  locate_new_rim_vertices();
   last_move_.assign(s_.positions.size(), glm::vec3(0.0f));
   evaluate();
   result.initial_energy = energy();
@@ -541,18 +719,22 @@ RefineResult Refiner::run(const RefineProgress& progress) {
       break;
     }
   }
-  // The flow keeps S's vertices inside B, but a face between vertices inside B can still cross a
-  // concave part of B (the collision test against B checks the motion of S's vertices and of
-  // rim faces): such faces are tucked in as before the flow.
-  tuck_inside(s_, tree_, b_, tuck_options());
+  // S was trimmed to B before the flow (rim/trim_to_exterior.hpp) and the flow's contact rule
+  // keeps its faces from crossing B (hold_exterior_crossings): no tuck after the flow, whose
+  // splits would put new vertices on B off the embedded rim.
+  if (o_.rim_motion) reembed_rim();  // the last step's slides
   split_rim_chords(s_, tree_, b_, tuck_options(), kChordPasses);
+  locate_new_rim_vertices();
   // Every edit is meant to keep S valid; a violation here is a bug, and it must not reach the
   // pieces or the output files silently. The derived arrays are the incremental rebuilds' (which
   // the unit tests compare with fresh ones): comparing them with a fresh rebuild here would cost
   // a full rebuild.
   if (std::string broken = validate_rebuilt(s_); !broken.empty())
     throw RunError("refinement produced an invalid fracture surface (an internal error; please report it): " + broken);
+  if (std::string loose = rim::find_unembedded_rim(s_, mesh(), rim_); !loose.empty())
+    throw RunError("refinement left the rim off the exterior (an internal error; please report it): " + loose);
   result.tree = std::move(tree_);
+  result.rim = std::move(rim_);
   return result;
 }
 

@@ -7,6 +7,7 @@
 
 #include "flow/backend.hpp"
 #include "refine/exterior.hpp"
+#include "rim/rim_on_b.hpp"
 #include "refine/topology_edit.hpp"
 #include "surface/fracture_surface.hpp"
 
@@ -60,6 +61,9 @@ struct RefineResult {
   double initial_energy = 0.0;
   std::vector<IterationStats> iterations;
   RefinementTree tree;
+  /// Where each rim vertex of the refined S lies on B; every rim edge lies in one triangle of B
+  /// (the pieces stage cuts B along them).
+  rim::RimOnB rim;
   enum class Stop { kConverged, kTriangleBudget, kIterationCap } stop = Stop::kIterationCap;
 };
 

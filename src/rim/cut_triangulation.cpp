@@ -1,4 +1,5 @@
-// Constrained triangulation of one cut B triangle in its barycentric plane (exact orient2d):
+// Constrained triangulation of one cut triangle (rim/cut_triangulation.hpp) in its barycentric
+// plane (exact orient2d):
 // boundary points split their side, interior points split the triangle holding them, each
 // constraint is recovered by flipping the edges it crosses (Sloan 1993), and free edges are then
 // flipped toward Delaunay, judged by the angles of the 3D triangles.
@@ -9,10 +10,11 @@
 #include <set>
 
 #include "geom/predicates.hpp"
-#include "pieces/pieces_internal.hpp"
+#include "rim/cut_triangulation.hpp"
+#include "rim/exterior_mesh.hpp"
 #include "util/error.hpp"
 
-namespace fracref::pieces_detail {
+namespace fracref::rim {
 namespace {
 
 using Edge = std::pair<std::uint32_t, std::uint32_t>;
@@ -221,4 +223,4 @@ std::vector<std::array<std::uint32_t, 3>> triangulate_cut_triangle(const CutTria
   return Triangulation(input).run();
 }
 
-}  // namespace fracref::pieces_detail
+}  // namespace fracref::rim

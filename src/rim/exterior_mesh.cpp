@@ -5,10 +5,10 @@
 #include <limits>
 #include <string>
 
-#include "pieces/pieces_internal.hpp"
+#include "rim/exterior_mesh.hpp"
 #include "util/error.hpp"
 
-namespace fracref::pieces_detail {
+namespace fracref::rim {
 namespace {
 
 struct DirectedEdge {
@@ -256,10 +256,56 @@ glm::dvec2 location_uv(const ExteriorMesh& m, const Location& loc, std::uint32_t
   return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
 }
 
+glm::dvec3 location_weights(const ExteriorMesh& m, const Location& loc, std::uint32_t f) {
+  const auto& t = m.triangles[f];
+  glm::dvec3 w(0.0);
+  if (loc.kind == Location::kFace) return loc.bary;
+  for (int k = 0; k < 3; ++k) {
+    if (loc.kind == Location::kVertex && t[k] == loc.id) w[k] = 1.0;
+    if (loc.kind == Location::kEdge && m.face_edges[f][k] == loc.id) {
+      const bool forward = m.edges[loc.id].x == t[k];
+      w[k] = forward ? 1.0 - loc.t : loc.t;
+      w[(k + 1) % 3] = forward ? loc.t : 1.0 - loc.t;
+    }
+  }
+  return w;
+}
+
+Location location_from_weights(const ExteriorMesh& m, std::uint32_t f, const glm::dvec3& w) {
+  const auto& t = m.triangles[f];
+  const int zeros = int(w.x == 0.0) + int(w.y == 0.0) + int(w.z == 0.0);
+  if (zeros >= 2) return vertex_location(m, t[w.x != 0.0 ? 0 : (w.y != 0.0 ? 1 : 2)]);
+  if (zeros == 1) {
+    const int k = w[0] == 0.0 ? 1 : (w[1] == 0.0 ? 2 : 0);  // side k runs from corner k to k+1
+    const std::uint32_t e = m.face_edges[f][k];
+    const double wa = w[k], wb = w[(k + 1) % 3];
+    return edge_location(m, e, m.edges[e].x == t[k] ? wb / (wa + wb) : wa / (wa + wb));
+  }
+  Location loc;
+  loc.kind = Location::kFace;
+  loc.id = f;
+  loc.bary = w;
+  loc.point = w.x * m.positions[t[0]] + w.y * m.positions[t[1]] + w.z * m.positions[t[2]];
+  return loc;
+}
+
+std::uint32_t common_face(const ExteriorMesh& m, const Location& a, const Location& b) {
+  for (std::uint32_t f : location_faces(m, a))
+    if (location_in_face(m, b, f)) return f;
+  return kNone;
+}
+
+Location location_between(const ExteriorMesh& m, const Location& a, const Location& b, double t) {
+  const std::uint32_t f = common_face(m, a, b);
+  glm::dvec3 w = (1.0 - t) * location_weights(m, a, f) + t * location_weights(m, b, f);
+  w = glm::max(w, glm::dvec3(0.0));
+  return location_from_weights(m, f, w / (w.x + w.y + w.z));
+}
+
 std::string format_point(const glm::dvec3& p) {
   char buffer[96];
   std::snprintf(buffer, sizeof buffer, "(%.9g, %.9g, %.9g)", p.x, p.y, p.z);
   return buffer;
 }
 
-}  // namespace fracref::pieces_detail
+}  // namespace fracref::rim

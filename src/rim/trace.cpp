@@ -1,13 +1,13 @@
-// The walk of one S boundary edge across B along a plane (pieces.hpp, step 2).
+// The walk of one S boundary edge across B along a plane (rim/exterior_mesh.hpp).
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
 
-#include "pieces/pieces_internal.hpp"
+#include "rim/exterior_mesh.hpp"
 #include "util/error.hpp"
 
-namespace fracref::pieces_detail {
+namespace fracref::rim {
 namespace {
 
 struct Candidate {
@@ -141,4 +141,4 @@ Trace trace_on_exterior(const ExteriorMesh& m, const Location& p, const Location
   throw RunError(first_reason);
 }
 
-}  // namespace fracref::pieces_detail
+}  // namespace fracref::rim

@@ -1,0 +1,131 @@
+// S's rim embedded in B (issue 29), on hand-made cases that broke the old pieces stage: a rim
+// edge crossing several B triangles is split where it crosses their edges; rim vertices on a B
+// edge or a B vertex are located there exactly; two rim edges meet inside one B triangle; a fan
+// that grazes a concave notch of B is trimmed to B. After each: S valid, every rim edge inside
+// one triangle of B, every rim vertex at its location.
+#include <gtest/gtest.h>
+
+#include "geom/bvh.hpp"
+#include "pieces_test_support.hpp"
+#include "rim/rim_on_b.hpp"
+#include "surface/fracture_surface.hpp"
+
+namespace fracref {
+namespace {
+
+using namespace pieces_test;
+using rim::Location;
+
+rim::ExteriorMesh unit_box(int n) { return rim::make_exterior_mesh(box(glm::dvec3(0.0), glm::dvec3(1.0), n)); }
+
+// A k x k sheet spanning the unit box at height z (its rim on the box's four sides).
+FractureSurface sheet_across(int k, double z) {
+  return grid_sheet(k + 1, [k, z](int i, int j) { return glm::dvec3(double(i) / k, double(j) / k, z); });
+}
+
+// The rim vertex of S nearest to p.
+std::uint32_t rim_vertex_at(const FractureSurface& s, const rim::RimOnB& rim, const glm::dvec3& p) {
+  std::uint32_t best = rim::kNone;
+  double d_best = 1e300;
+  for (std::uint32_t v = 0; v < s.positions.size(); ++v) {
+    if (!rim.on_b[v]) continue;
+    const double d = glm::distance(glm::dvec3(glm::vec3(s.positions[v])), p);
+    if (d < d_best) d_best = d, best = v;
+  }
+  EXPECT_LT(d_best, 1e-6) << "no rim vertex at " << rim::format_point(p);
+  return best;
+}
+
+// What embed_rim promises, whatever the case.
+void expect_embedded(const FractureSurface& s, const rim::ExteriorMesh& m, const rim::RimOnB& rim) {
+  ASSERT_EQ(validate(s), "");
+  EXPECT_EQ(rim::find_unembedded_rim(s, m, rim), "");
+  for (std::uint32_t v = 0; v < s.positions.size(); ++v) {
+    const bool boundary = (s.vertex_flags[v] & kVertexBoundary) != 0;
+    EXPECT_EQ(bool(rim.on_b[v]), boundary) << "vertex " << v;
+    if (rim.on_b[v]) EXPECT_LT(glm::distance(glm::dvec3(glm::vec3(s.positions[v])), rim.at[v].point), 1e-6) << v;
+  }
+}
+
+// Points of every face of S (a barycentric lattice of `n` steps a side) lie inside B or on it.
+void expect_inside(const FractureSurface& s, const rim::ExteriorMesh& m, int n = 8) {
+  for (std::size_t f = 0; f < s.faces.size(); ++f) {
+    const glm::dvec3 a(glm::vec3(s.positions[s.faces[f].x])), b(glm::vec3(s.positions[s.faces[f].y])),
+        c(glm::vec3(s.positions[s.faces[f].z]));
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const glm::dvec3 p = a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n);
+        if (point_in_mesh(m.bvh, p)) continue;
+        EXPECT_LT(closest_point(m.bvh, p).squared_distance, 1e-12) << "face " << f << " leaves B at " << rim::format_point(p);
+      }
+  }
+}
+
+}  // namespace
+
+TEST(RimEmbed, RimEdgeCrossingSeveralTrianglesIsSplitAtTheirEdges) {
+  const rim::ExteriorMesh m = unit_box(8);  // B's triangles 1/8 wide: each rim edge of 1/2 crosses several
+  FractureSurface s = sheet_across(2, 0.53);
+  const std::size_t before = s.positions.size();
+  const rim::Embedding e = rim::embed_rim(s, m);
+  expect_embedded(s, m, e.rim);
+  EXPECT_GE(s.positions.size(), before + 8 * 4);  // four crossings or more per rim edge
+  EXPECT_EQ(e.added.size(), s.positions.size() - before);
+  for (std::uint32_t v = 0; v < s.positions.size(); ++v)
+    if (e.rim.on_b[v]) {
+      const glm::dvec3 p(glm::vec3(s.positions[v]));
+      EXPECT_LT(std::min({p.x, 1.0 - p.x, p.y, 1.0 - p.y}), 1e-6) << "rim vertex " << v << " off the box's sides";
+    }
+  expect_inside(s, m);
+}
+
+TEST(RimEmbed, RimVerticesOnBEdgesAndVerticesAreLocatedThere) {
+  const rim::ExteriorMesh m = unit_box(2);  // B's vertices at 0, 1/2, 1 along each axis
+  FractureSurface s = sheet_across(4, 0.5);  // its rim runs along B's edges at z = 1/2
+  const rim::Embedding e = rim::embed_rim(s, m);
+  expect_embedded(s, m, e.rim);
+  EXPECT_EQ(e.rim.at[rim_vertex_at(s, e.rim, {0.0, 0.5, 0.5})].kind, Location::kVertex);
+  EXPECT_EQ(e.rim.at[rim_vertex_at(s, e.rim, {0.0, 0.0, 0.5})].kind, Location::kVertex);
+  EXPECT_EQ(e.rim.at[rim_vertex_at(s, e.rim, {0.0, 0.25, 0.5})].kind, Location::kEdge);
+  EXPECT_EQ(e.rim.at[rim_vertex_at(s, e.rim, {0.75, 1.0, 0.5})].kind, Location::kEdge);
+  expect_inside(s, m);
+}
+
+TEST(RimEmbed, TwoRimEdgesMeetInsideOneTriangle) {
+  const rim::ExteriorMesh m = unit_box(1);  // two triangles a side
+  FractureSurface s = sheet_across(2, 0.3);
+  const rim::Embedding e = rim::embed_rim(s, m);
+  expect_embedded(s, m, e.rim);
+  // (0, 1/2, 0.3) is off the side's diagonal: inside one triangle, and both its rim edges end
+  // in that triangle (the one crossing the diagonal is split there).
+  const std::uint32_t v = rim_vertex_at(s, e.rim, {0.0, 0.5, 0.3});
+  EXPECT_EQ(e.rim.at[v].kind, Location::kFace);
+  std::size_t rim_edges = 0;
+  for (std::size_t k = 0; k < s.edges.size(); ++k) {
+    const glm::uvec2 ed = s.edges[k];
+    if ((ed.x == v || ed.y == v) && s.ef_offsets[k + 1] - s.ef_offsets[k] == 1) {
+      ++rim_edges;
+      EXPECT_NE(rim::common_face(m, e.rim.at[ed.x], e.rim.at[ed.y]), rim::kNone);
+    }
+  }
+  EXPECT_EQ(rim_edges, 2u);
+  expect_inside(s, m);
+}
+
+// An L-shaped prism (cells (0,0), (1,0), (0,1); the notch (1,1) is a concave crease of B) and a
+// fan of three faces whose rim vertex w0 sits on the notch's wall x = 1: the edge from w0 to the
+// inner vertex crosses the notch, so S leaves B there. Trimmed, S lies inside B.
+TEST(RimEmbed, FanGrazingAConcaveNotchIsTrimmedToB) {
+  const rim::ExteriorMesh m = rim::make_exterior_mesh(voxel_surface({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 1.0));
+  std::vector<glm::vec4> positions = {{1.0f, 1.05f, 0.5f, 1.0f}, {2.0f, 0.5f, 0.3f, 1.0f},
+                                      {1.5f, 0.0f, 0.7f, 1.0f}, {1.5f, 0.5f, 0.5f, 1.0f}};
+  const std::vector<glm::uvec4> faces = {{3, 0, 1, 0}, {3, 1, 2, 0}, {3, 2, 0, 0}};
+  FractureSurface s = make_fracture_surface(positions, faces, std::vector<glm::ivec2>(3, glm::ivec2(1, 0)), 2);
+  const rim::Embedding e = rim::embed_rim(s, m);
+  expect_embedded(s, m, e.rim);
+  EXPECT_GT(e.trim.removed_faces, 0u);
+  EXPECT_GT(e.trim.new_vertices, 0u);
+  expect_inside(s, m, 16);
+}
+
+}  // namespace fracref
