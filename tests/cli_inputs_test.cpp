@@ -82,15 +82,24 @@ TEST(CliInputs, CellFractureCubeEndToEnd) {
 }
 
 TEST(CliInputs, CellFractureBunnyWithRigidTransformsEndToEnd) {
-  // The add-on's defaults: 10 pieces, one a sliver thinner than the cell (grown to one tet).
-  // 32 cells per diagonal: at the default (24, halved to 48) the pieces stage fails after the
-  // refinement on the bunny's margin-0 pieces (cf_bunny_tri, cf_bunny_ngon; issue 30 report).
+  // The add-on's defaults: 10 pieces, one a sliver thinner than the cell (grown to one tet);
+  // a finer lattice than the default, set in the scene key.
   TempDir t;
   refine_and_check(kInputs / "cf_bunny_default.json", t.path / "bunny", " --set fracture.cells_per_diagonal=32");
   const auto report = report_of(t.path / "bunny");
   EXPECT_EQ(report["pieces"], 10);
   EXPECT_EQ(report["pieces_fit"]["grown"], nlohmann::json::array({"bunny_cell.008"}));
   EXPECT_GT(report["frames"].get<int>(), 1);
+}
+
+// Issue 30: the add-on with margin 0, as triangles and as n-gons, at the default lattice; the
+// pieces stage failed on them before it was built by construction (issue 29).
+TEST(CliInputs, CellFractureBunnyMarginZeroEndToEnd) {
+  TempDir t;
+  for (const char* s : {"cf_bunny_tri", "cf_bunny_ngon"}) {
+    refine_and_check(kInputs / (std::string(s) + ".json"), t.path / s);
+    EXPECT_EQ(report_of(t.path / s)["pieces_ok"], true) << s;
+  }
 }
 
 TEST(CliInputs, GmshAndTetgenTetsWithRigidAndFrameAnimation) {
