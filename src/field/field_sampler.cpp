@@ -116,18 +116,17 @@ FieldGrid4 precompute_field_gradient(const std::vector<Grid3>& pyramid) {
   check_levels(pyramid);
   const Grid3& base = pyramid.front();
   FieldGrid4 out{base.dims, base.origin, base.cell, std::vector<glm::vec4>(base.size())};
-  std::vector<std::vector<double>> at_nodes(pyramid.size());
-  for (std::size_t l = 0; l < pyramid.size(); ++l) at_nodes[l] = level_at_base_nodes(pyramid[l], base, unsigned(l));
   const glm::ivec3 n(base.dims);
   const std::size_t rows = std::size_t(base.dims.y) * base.dims.z;
-  // ψ̃ at the base nodes first; then its central differences, one base cell either side (one-sided
-  // at the grid's faces): the gradient of what the refiner samples, so its flow descends the
-  // energy it measures (see the header).
+  // ψ̃ at the base nodes first (the levels summed in order, one at a time); then its central
+  // differences, one base cell either side (one-sided at the grid's faces): the gradient of what
+  // the refiner samples, so its flow descends the energy it measures (see the header).
   std::vector<double> value(base.size(), 0.0);
-  for (std::size_t i = 0; i < value.size(); ++i) {
-    for (const std::vector<double>& f : at_nodes) value[i] += f[i];
-    value[i] /= double(pyramid.size());
+  for (std::size_t l = 0; l < pyramid.size(); ++l) {
+    const std::vector<double> level = level_at_base_nodes(pyramid[l], base, unsigned(l));
+    for (std::size_t i = 0; i < value.size(); ++i) value[i] += level[i];
   }
+  for (double& v : value) v /= double(pyramid.size());
   parallel_chunks(rows, chunk_count(rows, 64), 2, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t r = begin; r < end; ++r) {
       const int y = int(r % base.dims.y), z = int(r / base.dims.y);

@@ -3,10 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <iterator>
 
 #include "field/field_sampler.hpp"
-#include "geom/intersect.hpp"
 #include "flow/implicit_step.hpp"
 #include "util/parallel.hpp"
 #include "refine/collisions.hpp"
