@@ -193,53 +193,6 @@ double allowed_distance(const WeightsSpec& w, const Grid3& zeta, double diagonal
   return diagonal * w.strength * range / w.distance;
 }
 
-namespace {
-
-glm::vec3 piece_color(int piece) {
-  static const glm::vec3 palette[] = {{0.90f, 0.35f, 0.30f}, {0.30f, 0.60f, 0.90f}, {0.40f, 0.80f, 0.40f},
-                                      {0.95f, 0.75f, 0.25f}, {0.65f, 0.45f, 0.85f}, {0.30f, 0.80f, 0.80f},
-                                      {0.90f, 0.50f, 0.70f}, {0.60f, 0.60f, 0.35f}};
-  return palette[std::size_t(piece) % 8];
-}
-
-}  // namespace
-
-Image preview_pieces(const PieceSet& set, const Grid3* zeta) {
-  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-  for (const glm::dvec3& p : set.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  const glm::dvec3 centre = 0.5 * (lo + hi);
-  // Far enough apart that the fracture faces between the pieces are seen.
-  const double explode = 0.6;
-  const std::optional<StrengthRamp> ramp = zeta ? std::optional<StrengthRamp>(std::in_place, *zeta) : std::nullopt;
-  std::vector<PreviewMesh> meshes;
-  for (std::size_t p = 0; p < set.pieces.size(); ++p) {
-    const PieceSet::Piece& piece = set.pieces[p];
-    glm::dvec3 c(0.0);
-    for (const auto& t : piece.triangles) c += (set.positions[t[0]] + set.positions[t[1]] + set.positions[t[2]]) / 3.0;
-    if (!piece.triangles.empty()) c /= double(piece.triangles.size());
-    const glm::dvec3 shift = explode * (c - centre);
-    PreviewMesh m;
-    for (std::size_t f = 0; f < piece.triangles.size(); ++f) {
-      std::uint32_t base = std::uint32_t(m.positions.size());
-      for (int k = 0; k < 3; ++k) m.positions.push_back(set.positions[piece.triangles[f][k]] + shift);
-      m.triangles.push_back({base, base + 1, base + 2});
-      glm::vec3 color(0.86f, 0.86f, 0.88f);
-      if (piece.inside[f] && ramp) {
-        color = ramp->at(
-            (set.positions[piece.triangles[f][0]] + set.positions[piece.triangles[f][1]] + set.positions[piece.triangles[f][2]]) / 3.0);
-      } else if (piece.inside[f]) {
-        color = piece_color(int(p));
-      }
-      m.triangle_colors.push_back(color);
-    }
-    meshes.push_back(std::move(m));
-  }
-  RenderOptions ro;
-  ro.width = 1600;
-  ro.height = 1000;
-  return render_preview(meshes, ro);
-}
-
 Image preview_frames(const PieceSet& set, const AnimationTransfer& transfer, const CoarseAnimation& animation,
                      int count) {
   const std::size_t n = animation.frames.size();

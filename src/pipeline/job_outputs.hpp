@@ -70,9 +70,10 @@ CoarseDistance distance_to_coarse(const FractureSurface& coarse, const FractureS
 /// so no material there is weak enough to draw the surface that far. Infinity when w_d is 0.
 double allowed_distance(const WeightsSpec& w, const Grid3& zeta, double diagonal);
 
-/// The pieces exploded far enough apart that the fracture faces are seen, 1600×1000; fracture
-/// faces coloured by ζ (surface_preview.hpp) when `zeta` is given, else by their piece; exterior
-/// faces light.
+/// Every piece side by side at one scale, 1600×1000, each turned so that its fracture faces look
+/// at the camera (a piece whose fracture faces look both ways is drawn twice, from each side);
+/// fracture faces coloured by ζ (surface_preview.hpp) when `zeta` is given, else by their piece;
+/// exterior faces light. Implemented in pieces_preview.cpp.
 Image preview_pieces(const PieceSet& pieces, const Grid3* zeta = nullptr);
 
 /// A contact sheet of `count` frames evenly spread over the animation (4 per row), each frame

@@ -22,6 +22,13 @@ glm::vec3 strength_color(double t) {
 
 }  // namespace
 
+glm::vec3 piece_color(int piece) {
+  static const glm::vec3 palette[] = {{0.90f, 0.35f, 0.30f}, {0.30f, 0.60f, 0.90f}, {0.40f, 0.80f, 0.40f},
+                                      {0.95f, 0.75f, 0.25f}, {0.65f, 0.45f, 0.85f}, {0.30f, 0.80f, 0.80f},
+                                      {0.90f, 0.50f, 0.70f}, {0.60f, 0.60f, 0.35f}};
+  return palette[std::size_t(piece) % 8];
+}
+
 StrengthRamp::StrengthRamp(const Grid3& zeta) : zeta_(zeta) {
   if (zeta.values.empty()) return;
   const auto [lo, hi] = std::minmax_element(zeta.values.begin(), zeta.values.end());

@@ -8,6 +8,9 @@
 
 namespace fracref {
 
+/// A piece's colour where no material colours its faces (a palette of 8, repeating).
+glm::vec3 piece_color(int piece);
+
 /// ζ's colours: a ramp from dark purple (weak) through red and orange to pale yellow (strong)
 /// over the range of ζ on its grid (found once; the middle colour for a constant grid).
 class StrengthRamp {
