@@ -77,6 +77,7 @@ class Refiner {
   TuckOptions tuck_options() const { return {.scale = o_.scale, .min_edge = o_.delta}; }
   bool flow_step(double ceiling, IterationStats& st);
   std::size_t refine_step(std::uint32_t iteration);
+  SplitRequest bisection(const SplitRequest& r, glm::vec3& start) const;
   IterationStats iterate(std::uint32_t iteration, double e_before);
   struct Verdict {
     bool split = false;
@@ -306,6 +307,36 @@ float element_offset(const ElementShape& e, const glm::vec3& d) {
   return e.face ? std::abs(glm::dot(d, e.dir)) : glm::length(d - glm::dot(d, e.dir) * e.dir);
 }
 
+// The edge a split asked for at `r` bisects: the longest edge of the sampled face, or of the
+// faces around the sampled edge when one of them is longer than it (else the edge itself), split
+// at its midpoint (`start`). The paper splits a face 1-to-3 at the sample and a special edge at
+// the sample; each such split keeps the element's long edges, so repeated splits, above all of
+// the junction edges sampled every iteration, left fans of needles whose normals no flip could
+// mend, which the fold guard and the collisions then held still. Longest-edge bisection (Rivara
+// 1984) keeps every angle above a bound set by the coarse surface: the sample still says where
+// S needs triangles, the bisection only how they are cut.
+SplitRequest Refiner::bisection(const SplitRequest& r, glm::vec3& start) const {
+  auto length = [&](std::uint32_t e) {
+    return glm::distance(glm::vec3(s_.positions[s_.edges[e].x]), glm::vec3(s_.positions[s_.edges[e].y]));
+  };
+  auto longest_of_face = [&](std::uint32_t f) {
+    std::uint32_t best = s_.face_edges[3 * f];
+    for (int c = 1; c < 3; ++c)
+      if (length(s_.face_edges[3 * f + c]) > length(best)) best = s_.face_edges[3 * f + c];
+    return best;
+  };
+  std::uint32_t edge = r.kind == SplitRequest::kFace ? longest_of_face(r.element) : r.element;
+  if (r.kind == SplitRequest::kEdge)
+    for (std::uint32_t k = s_.ef_offsets[r.element]; k < s_.ef_offsets[r.element + 1]; ++k) {
+      const std::uint32_t e = longest_of_face(s_.ef_faces[k]);
+      if (length(e) > length(edge)) edge = e;
+    }
+  const glm::uvec2 ab = s_.edges[edge];
+  start = 0.5f * (glm::vec3(s_.positions[ab.x]) + glm::vec3(s_.positions[ab.y]));
+  if (s_.edge_special[edge] == kEdgeBoundary) start = glm::vec3(b_.closest_point(glm::dvec3(start)));
+  return {SplitRequest::kEdge, edge, glm::vec3(0.5f, 0.5f, 0.0f)};
+}
+
 // A sample whose flow step would take it too far from its element (paper 4.4: "if it moves too
 // far away from the triangle after one iteration, we add it as a new vertex") is inserted where it
 // lies, when moving it where the step would take it lowers the energy. The tree records its
@@ -339,8 +370,11 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
   choice.touched.assign(s_.faces.size(), 0);
   choice.faces = s_.faces.size();
   for (std::size_t k = 0; k < set.points.size() && !budget_reached_; ++k) {
-    if (!verdicts[k].split || !choice.add(s_, set.requests[k], o_.max_triangles, budget_reached_)) continue;
-    choice.start.push_back(glm::vec3(set.points[k]));
+    if (!verdicts[k].split) continue;
+    glm::vec3 start;
+    const SplitRequest r = bisection(set.requests[k], start);
+    if (!choice.add(s_, r, o_.max_triangles, budget_reached_)) continue;
+    choice.start.push_back(start);
   }
   apply_splits(s_, tree_, choice.chosen, &choice.start);
   inherit_clearance(s_, tree_, clearance_);

@@ -1,6 +1,6 @@
 #pragma once
 // The refinement loop (paper 4.3–4.4): gradient flow of S in the modified strength field with
-// boundary and collision constraints, adaptive 1-to-3 and edge splits, and edge flips.
+// boundary and collision constraints, adaptive splits (longest-edge bisection where a sample asks), and edge flips.
 #include <cstdint>
 #include <functional>
 #include <vector>

@@ -42,11 +42,11 @@ constexpr SceneText kScenes[] = {
     {"clay", "twisted plastic clay",
      "The paper's plastic clay: large twisting, plastic deformation before it tears, refined in a 32x64x64 fBm field "
      "(paper: 510 -> 40K triangles).",
-     "fbm", {32, 64, 64}, 1e-6, 5e-5},
+     "fbm", {32, 64, 64}, 5e-5, 5e-5},
     {"jello", "Jell-O with fruit cubes",
      "The paper's Jell-O: elastic bouncing and gradual fracture, refined in a 64x64x32 field of hard inclusions in soft "
      "jelly (paper: 488 -> 32K triangles).",
-     "inclusions", {64, 64, 32}, 2e-6, 5e-5},
+     "inclusions", {64, 64, 32}, 6e-5, 5e-5},
 };
 
 }  // namespace
