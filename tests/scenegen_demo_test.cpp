@@ -295,7 +295,7 @@ TEST(ScenegenDemo, Clay) {
   EXPECT_EQ(d.scene.field.type, FieldType::fbm);
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(32, 64, 64));
   // Finer split thresholds than the defaults: the paper's 40K triangles are within reach.
-  EXPECT_EQ(d.scene.refine.tau, 1e-6);
+  EXPECT_EQ(d.scene.refine.tau, 5e-5);
   EXPECT_EQ(d.scene.refine.delta, 5e-5);
   check_backward_remeshing(d);
   // Large twisting before anything tears (late: from frame 30).
