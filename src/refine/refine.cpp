@@ -10,6 +10,7 @@
 #include "refine/collisions.hpp"
 #include "refine/containment.hpp"
 #include "refine/flips.hpp"
+#include "refine/junction_order.hpp"
 #include "refine/exterior_contact.hpp"
 #include "refine/motion_filters.hpp"
 #include "refine/rim_collar.hpp"
@@ -373,7 +374,7 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
     if (!verdicts[k].split) continue;
     glm::vec3 start;
     const SplitRequest r = bisection(set.requests[k], start);
-    if (!choice.add(s_, r, o_.max_triangles, budget_reached_)) continue;
+    if (!split_keeps_junction_order(s_, r, start) || !choice.add(s_, r, o_.max_triangles, budget_reached_)) continue;
     choice.start.push_back(start);
   }
   apply_splits(s_, tree_, choice.chosen, &choice.start);
