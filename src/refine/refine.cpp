@@ -339,12 +339,13 @@ SplitRequest Refiner::bisection(const SplitRequest& r, glm::vec3& start) const {
 }
 
 // A sample whose flow step would take it too far from its element (paper 4.4: "if it moves too
-// far away from the triangle after one iteration, we add it as a new vertex") is inserted where it
-// lies, when moving it where the step would take it lowers the energy. The tree records its
-// weights on the parent element (its position at creation). Inserting it on its element leaves
-// the shape as it was, so no collision test is needed here: the flow step that follows moves the
-// new vertices with all the others, under the same collision constraints. (A boundary sample
-// lies on B, off its edge's chord: that jump is not tested, as the rim chords are not.)
+// far away from the triangle after one iteration, we add it as a new vertex") asks for a split
+// there, when moving it where the step would take it lowers the energy; the split is the
+// longest-edge bisection of its element (Refiner::bisection), made unless it would reorder the
+// sheets around a junction edge. The tree records the new vertex's weights on the split edge
+// (its position at creation). A split on S leaves the shape as it was, so no collision test is
+// needed here: the flow step that follows moves the new vertices with all the others, under the
+// same collision constraints. (A rim edge lies in one triangle of B, so its midpoint is on B.)
 std::size_t Refiner::refine_step(std::uint32_t iteration) {
   const float scale = float(o_.scale);
   SampleSet set = draw_samples(s_, o_.seed, iteration, float(o_.delta) * scale, float(o_.rim_delta) * scale);
