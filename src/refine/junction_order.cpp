@@ -1,8 +1,8 @@
 #include "refine/junction_order.hpp"
 
-#include <algorithm>
-#include <cmath>
 #include <vector>
+
+#include "surface/radial_order.hpp"
 
 namespace fracref {
 namespace {
@@ -11,30 +11,10 @@ glm::dvec3 at_vertex(const FractureSurface& s, std::uint32_t v) { return glm::dv
 
 std::uint32_t opposite(const glm::uvec4& f, std::uint32_t a, std::uint32_t b) { return f.x + f.y + f.z - a - b; }
 
-// The faces around junction edge e in their cyclic order about the axis p → q (rotated to start
-// at the lowest face id), each face's opposite vertex at `where(face)`.
 template <class Where>
 std::vector<std::uint32_t> order_about(const FractureSurface& s, std::uint32_t e, const glm::dvec3& p,
                                        const glm::dvec3& q, Where where) {
-  const glm::dvec3 t = q - p;
-  const double tt = glm::dot(t, t);
-  std::vector<std::pair<double, std::uint32_t>> keyed;
-  glm::dvec3 e1(0.0), e2(0.0);
-  for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) {
-    const std::uint32_t f = s.ef_faces[k];
-    const glm::dvec3 u = where(f) - p;
-    const glm::dvec3 perp = tt > 0.0 ? u - t * (glm::dot(u, t) / tt) : glm::dvec3(0.0);
-    if (e1 == glm::dvec3(0.0) && glm::dot(perp, perp) > 0.0) {
-      e1 = glm::normalize(perp);
-      e2 = glm::cross(t / std::sqrt(tt), e1);
-    }
-    keyed.emplace_back(std::atan2(glm::dot(perp, e2), glm::dot(perp, e1)), f);
-  }
-  std::sort(keyed.begin(), keyed.end());
-  std::vector<std::uint32_t> order;
-  for (const auto& k : keyed) order.push_back(k.second);
-  std::rotate(order.begin(), std::min_element(order.begin(), order.end()), order.end());
-  return order;
+  return from_lowest(radial_order_about(s, e, p, q, where));
 }
 
 std::vector<std::uint32_t> order_now(const FractureSurface& s, std::uint32_t e) {

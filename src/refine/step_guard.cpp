@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "surface/radial_order.hpp"
+
 namespace fracref {
 namespace {
 
@@ -27,27 +29,15 @@ bool lies_down(const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x
   return c1 > max_cos && c1 > cos_to_b(x0);
 }
 
-// The faces of edge e in their order around it at positions x (by the angle of each face's third
-// vertex about the edge's axis), rotated to start with the lowest face id: two positions give the
-// same sequence when no face passed another.
+// The faces of edge e in their order around it at positions x (the order rebuild_adjacency
+// reads), written from the lowest face id: two positions give the same sequence when no face
+// passed another.
 std::vector<std::uint32_t> cyclic_order(const FractureSurface& s, std::uint32_t e, const std::vector<glm::vec4>& x) {
   const glm::uvec2 ab = s.edges[e];
-  const glm::dvec3 a = at(x, ab.x), axis = at(x, ab.y) - a;
-  const glm::dvec3 u = glm::normalize(std::abs(axis.x) < 0.9 * glm::length(axis) ? glm::cross(axis, glm::dvec3(1, 0, 0))
-                                                                                   : glm::cross(axis, glm::dvec3(0, 1, 0)));
-  const glm::dvec3 w = glm::normalize(glm::cross(axis, u));
-  std::vector<std::pair<double, std::uint32_t>> around;
-  for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) {
-    const glm::uvec4 f = s.faces[s.ef_faces[k]];
-    const std::uint32_t z = f.x + f.y + f.z - ab.x - ab.y;
-    const glm::dvec3 r = at(x, z) - a;
-    around.emplace_back(std::atan2(glm::dot(r, w), glm::dot(r, u)), s.ef_faces[k]);
-  }
-  std::sort(around.begin(), around.end());
-  std::vector<std::uint32_t> order;
-  for (const auto& p : around) order.push_back(p.second);
-  std::rotate(order.begin(), std::min_element(order.begin(), order.end()), order.end());
-  return order;
+  return from_lowest(radial_order_about(s, e, at(x, ab.x), at(x, ab.y), [&](std::uint32_t f) {
+    const glm::uvec4 t = s.faces[f];
+    return at(x, t.x + t.y + t.z - ab.x - ab.y);
+  }));
 }
 
 std::size_t hold(const glm::uvec4& f, const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) {

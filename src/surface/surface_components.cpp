@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "surface/radial_order.hpp"
 #include "surface/surface_internal.hpp"
 
 namespace fracref::surface_detail {
@@ -16,31 +17,11 @@ std::uint32_t opposite_vertex(const glm::uvec4& face, glm::uvec2 edge) {
   return face[0];
 }
 
-// Faces of a non-manifold edge in counter-clockwise order around the axis a -> b (a < b), by
-// the angle of each face's opposite vertex in the plane perpendicular to the axis.
+// Faces of a non-manifold edge in counter-clockwise order around the axis a -> b (a < b).
 std::vector<std::uint32_t> radial_order(const FractureSurface& s, std::uint32_t e) {
   const glm::uvec2 ab = s.edges[e];
-  const glm::dvec3 pa(s.positions[ab.x]), t = glm::dvec3(s.positions[ab.y]) - pa;
-  const double tt = glm::dot(t, t);
-  std::vector<std::pair<double, std::uint32_t>> keyed;
-  std::vector<glm::dvec3> perp;
-  for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) {
-    const std::uint32_t f = s.ef_faces[k];
-    const glm::dvec3 u = glm::dvec3(s.positions[opposite_vertex(s.faces[f], ab)]) - pa;
-    perp.push_back(tt > 0.0 ? u - t * (glm::dot(u, t) / tt) : glm::dvec3(0.0));
-    keyed.emplace_back(0.0, f);
-  }
-  // The reference direction is the first face's (lowest id) with a usable perpendicular.
-  auto ref = std::find_if(perp.begin(), perp.end(), [](const glm::dvec3& p) { return glm::dot(p, p) > 0.0; });
-  if (ref != perp.end()) {
-    const glm::dvec3 e1 = glm::normalize(*ref), e2 = glm::cross(t / std::sqrt(tt), e1);
-    for (std::size_t k = 0; k < perp.size(); ++k)
-      keyed[k].first = std::atan2(glm::dot(perp[k], e2), glm::dot(perp[k], e1));
-  }
-  std::sort(keyed.begin(), keyed.end());
-  std::vector<std::uint32_t> order;
-  for (const auto& [angle, f] : keyed) order.push_back(f);
-  return order;
+  return radial_order_about(s, e, glm::dvec3(s.positions[ab.x]), glm::dvec3(s.positions[ab.y]),
+                            [&](std::uint32_t f) { return glm::dvec3(s.positions[opposite_vertex(s.faces[f], ab)]); });
 }
 
 void join_regular(const FractureSurface& s, std::uint32_t e, std::vector<SideJoin>& out) {
