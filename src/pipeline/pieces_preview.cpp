@@ -44,8 +44,11 @@ glm::dmat3 rotation_between(const glm::dvec3& from, const glm::dvec3& to) {
 std::vector<glm::dvec3> piece_views(const PieceSet& set, const PieceSet::Piece& piece) {
   glm::dvec3 mean(0.0);
   double total = 0.0;
-  for (std::size_t f = 0; f < piece.triangles.size(); ++f)
-    if (piece.inside[f]) mean += face_normal(set, piece.triangles[f]), total += glm::length(face_normal(set, piece.triangles[f]));
+  for (std::size_t f = 0; f < piece.triangles.size(); ++f) {
+    if (!piece.inside[f]) continue;
+    const glm::dvec3 n = face_normal(set, piece.triangles[f]);
+    mean += n, total += glm::length(n);
+  }
   if (!(glm::length(mean) > 1e-9 * total)) return {glm::dvec3(0.0, 0.0, 1.0)};
   const glm::dvec3 first = glm::normalize(mean);
   glm::dvec3 rest(0.0);

@@ -320,18 +320,15 @@ SplitRequest Refiner::bisection(const SplitRequest& r, glm::vec3& start) const {
   auto length = [&](std::uint32_t e) {
     return glm::distance(glm::vec3(s_.positions[s_.edges[e].x]), glm::vec3(s_.positions[s_.edges[e].y]));
   };
-  auto longest_of_face = [&](std::uint32_t f) {
-    std::uint32_t best = s_.face_edges[3 * f];
-    for (int c = 1; c < 3; ++c)
-      if (length(s_.face_edges[3 * f + c]) > length(best)) best = s_.face_edges[3 * f + c];
-    return best;
+  std::uint32_t edge = r.element;
+  float longest = r.kind == SplitRequest::kEdge ? length(edge) : -1.0f;
+  auto consider_face = [&](std::uint32_t f) {
+    for (int c = 0; c < 3; ++c)
+      if (const float l = length(s_.face_edges[3 * f + c]); l > longest) longest = l, edge = s_.face_edges[3 * f + c];
   };
-  std::uint32_t edge = r.kind == SplitRequest::kFace ? longest_of_face(r.element) : r.element;
-  if (r.kind == SplitRequest::kEdge)
-    for (std::uint32_t k = s_.ef_offsets[r.element]; k < s_.ef_offsets[r.element + 1]; ++k) {
-      const std::uint32_t e = longest_of_face(s_.ef_faces[k]);
-      if (length(e) > length(edge)) edge = e;
-    }
+  if (r.kind == SplitRequest::kFace) consider_face(r.element);
+  else
+    for (std::uint32_t k = s_.ef_offsets[r.element]; k < s_.ef_offsets[r.element + 1]; ++k) consider_face(s_.ef_faces[k]);
   const glm::uvec2 ab = s_.edges[edge];
   start = 0.5f * (glm::vec3(s_.positions[ab.x]) + glm::vec3(s_.positions[ab.y]));
   if (s_.edge_special[edge] == kEdgeBoundary) start = glm::vec3(b_.closest_point(glm::dvec3(start)));
