@@ -192,47 +192,81 @@ std::vector<glm::dvec3> with_rim_points(const FractureSurface& s, const RimFaces
 
 }  // namespace
 
-std::size_t apply_collision_constraints(const FractureSurface& s, const ExteriorSurface& b,
-                                        const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1,
-                                        std::vector<float>* clearance) {
-  const std::vector<float> clearance_at_x0 = clearance ? *clearance : std::vector<float>();
-  std::size_t stopped = keep_inside(s, b, x0, x1, clearance);
-  std::vector<std::array<std::uint32_t, 3>> tris(s.faces.size());
-  for (std::size_t f = 0; f < s.faces.size(); ++f) tris[f] = {s.faces[f].x, s.faces[f].y, s.faces[f].z};
-  std::vector<std::array<std::uint32_t, 3>> near_b = faces_near_exterior(tris, x0, x1, clearance_at_x0);
-  RimFaces rim = rim_faces(s, x0, x1);
-  std::vector<std::uint8_t> on_b(x1.size() + rim.owner.size(), 0);
-  for (std::size_t i = 0; i < x1.size(); ++i) on_b[i] = (s.vertex_flags[i] & kVertexBoundary) ? 1 : 0;
-  std::vector<std::array<std::uint32_t, 2>> edges(s.edges.size());
-  for (std::size_t e = 0; e < s.edges.size(); ++e)
-    edges[e] = {std::min(s.edges[e].x, s.edges[e].y), std::max(s.edges[e].x, s.edges[e].y)};
+// What the first search of a step keeps for the later ones (StepCollisions).
+struct StepCollisions::State {
+  const FractureSurface& s;
+  const ExteriorSurface& b;
+  const std::vector<glm::vec4>& x0;
+  std::vector<std::array<std::uint32_t, 3>> tris, near_b;
+  std::vector<std::array<std::uint32_t, 2>> edges;
+  RimFaces rim;
+  std::vector<std::uint8_t> on_b;
+  std::vector<glm::dvec3> p0, p0_rim;
+  std::vector<CcdPair> examined;   // the first search's candidate pairs within S
+  std::vector<glm::vec4> last;     // x1 as the last call left it (empty: no search yet)
+
+  State(const FractureSurface& s, const ExteriorSurface& b, const std::vector<glm::vec4>& x0) : s(s), b(b), x0(x0) {
+    tris.resize(s.faces.size());
+    for (std::size_t f = 0; f < s.faces.size(); ++f) tris[f] = {s.faces[f].x, s.faces[f].y, s.faces[f].z};
+    edges.resize(s.edges.size());
+    for (std::size_t e = 0; e < s.edges.size(); ++e)
+      edges[e] = {std::min(s.edges[e].x, s.edges[e].y), std::max(s.edges[e].x, s.edges[e].y)};
+    p0 = to_double(x0);
+  }
+
+  // The faces that may meet B and the rim faces, for the motion x0 → x1 of the first search: a
+  // later motion only holds vertices back, so they cover it too.
+  void prepare(const std::vector<glm::vec4>& x1, const std::vector<float>& clearance_at_x0) {
+    near_b = faces_near_exterior(tris, x0, x1, clearance_at_x0);
+    rim = rim_faces(s, x0, x1);
+    on_b.assign(x1.size() + rim.owner.size(), 0);
+    for (std::size_t i = 0; i < x1.size(); ++i) on_b[i] = (s.vertex_flags[i] & kVertexBoundary) ? 1 : 0;
+    p0_rim = with_rim_points(s, rim, p0);
+    drop_crossing_rim_faces(rim, p0_rim, b, clearance_at_x0);
+    near_b.insert(near_b.end(), rim.triangles.begin(), rim.triangles.end());
+    examined.clear();
+  }
+
+  // Flags the vertices whose end position changed since the last call; false when one moved
+  // anywhere but back to x0 (the pairs kept then do not cover the motion: search again).
+  bool changed_since_last(const std::vector<glm::vec4>& x1, std::vector<std::uint8_t>& changed) const {
+    if (last.size() != x1.size()) return false;
+    for (std::size_t i = 0; i < x1.size(); ++i) {
+      if (x1[i] == last[i]) continue;
+      if (x1[i] != x0[i]) return false;
+      changed[i] = 1;
+    }
+    return true;
+  }
+
+  std::size_t rounds(std::vector<glm::vec4>& x1, std::vector<std::uint8_t>& reset_now, bool searched);
+};
+
+// Each round resets every vertex of every colliding pair; the moving set shrinks strictly, so
+// the loop ends. After a search only pairs with a vertex reset since can have changed, and only
+// among the pairs the search examined (holding vertices back only shrinks the motion): later
+// rounds, and later calls on the same step, test those instead of searching S again.
+std::size_t StepCollisions::State::rounds(std::vector<glm::vec4>& x1, std::vector<std::uint8_t>& reset_now,
+                                          bool searched) {
   StepCcdOptions opts;
   opts.ccd.tolerance = 1e-7 * b.diagonal();
   opts.ccd.max_iterations = kCcdBoxBudget;
   opts.skip_resting_pairs = true;  // resting pairs cannot change by freezing (see the loop's end)
-  const std::vector<glm::dvec3> p0 = to_double(x0);
-  const std::vector<glm::dvec3> p0_rim = with_rim_points(s, rim, p0);
-  drop_crossing_rim_faces(rim, p0_rim, b, clearance_at_x0);
-  near_b.insert(near_b.end(), rim.triangles.begin(), rim.triangles.end());
-  // Each round resets every vertex of every colliding pair; the moving set shrinks strictly, so
-  // the loop ends. After the first round only pairs with a vertex reset in the round before can
-  // have changed, and only among the pairs the first round examined (holding vertices back only
-  // shrinks the motion): later rounds test those instead of searching S again.
-  std::vector<std::uint8_t> reset_now(x1.size(), 0);
-  std::vector<CcdPair> examined;
+  std::size_t stopped = 0;
   std::vector<glm::dvec3> p1 = to_double(x1);  // kept equal to x1: a held vertex goes back to p0
   for (int round = 0;; ++round) {
-    opts.active_vertices = round > 0 ? &reset_now : nullptr;
+    const bool incremental = searched || round > 0;
+    opts.active_vertices = incremental ? &reset_now : nullptr;
     opts.edges = &edges;
-    opts.examined = round == 0 ? &examined : nullptr;
-    opts.candidates = round > 0 ? &examined : nullptr;
+    opts.examined = incremental ? nullptr : &examined;
+    opts.candidates = incremental ? &examined : nullptr;
     std::vector<CcdPair> pairs = find_step_collisions(p0, p1, tris, opts);
     opts.edges = nullptr;
     opts.examined = nullptr;
     opts.candidates = nullptr;
     // Against B, a virtual rim vertex is active when a corner of its face is.
     std::vector<std::uint8_t> reset_rim;
-    if (round > 0) {
+    if (incremental) {
       reset_rim = reset_now;
       for (std::size_t k = 0; k < rim.owner.size(); ++k) {
         const glm::uvec4 f = s.faces[rim.owner[k]];
@@ -267,6 +301,31 @@ std::size_t apply_collision_constraints(const FractureSurface& s, const Exterior
     if (stopped == before) break;
   }
   return stopped;
+}
+
+
+StepCollisions::StepCollisions(const FractureSurface& s, const ExteriorSurface& exterior,
+                               const std::vector<glm::vec4>& x0)
+    : state_(std::make_unique<State>(s, exterior, x0)) {}
+
+StepCollisions::~StepCollisions() = default;
+
+std::size_t StepCollisions::apply(std::vector<glm::vec4>& x1, std::vector<float>* clearance) {
+  State& z = *state_;
+  const std::vector<float> clearance_at_x0 = clearance ? *clearance : std::vector<float>();
+  std::size_t stopped = keep_inside(z.s, z.b, z.x0, x1, clearance);
+  std::vector<std::uint8_t> reset_now(x1.size(), 0);
+  const bool searched = z.changed_since_last(x1, reset_now);
+  if (!searched) z.prepare(x1, clearance_at_x0);
+  stopped += z.rounds(x1, reset_now, searched);
+  z.last = x1;
+  return stopped;
+}
+
+std::size_t apply_collision_constraints(const FractureSurface& s, const ExteriorSurface& b,
+                                        const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1,
+                                        std::vector<float>* clearance) {
+  return StepCollisions(s, b, x0).apply(x1, clearance);
 }
 
 }  // namespace fracref

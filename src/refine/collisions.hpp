@@ -3,6 +3,7 @@
 // projected back onto the exterior B; interior vertices may not leave B; and vertices of a pair
 // that continuous collision detection finds colliding over the step keep their old position.
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -40,5 +41,24 @@ void apply_boundary_constraint(const FractureSurface& s, const ExteriorSurface& 
 std::size_t apply_collision_constraints(const FractureSurface& s, const ExteriorSurface& exterior,
                                         const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1,
                                         std::vector<float>* clearance = nullptr);
+
+/// apply_collision_constraints for one step x0 → x1 applied again and again as other checks hold
+/// more vertices back: the first call searches S and B; a later call whose x1 differs from what
+/// the call before left only where vertices are back at x0 tests only the pairs that search let
+/// through with a vertex changed since (the same answer as a new search, at a fraction of its
+/// cost); a later call with any other change searches again. `clearance` as above, at x0 on every
+/// call.
+class StepCollisions {
+ public:
+  /// \pre s, exterior and x0 outlive this object and do not change; x0 collision-free.
+  StepCollisions(const FractureSurface& s, const ExteriorSurface& exterior, const std::vector<glm::vec4>& x0);
+  ~StepCollisions();
+  /// As apply_collision_constraints. \pre x1.size() == x0.size().
+  std::size_t apply(std::vector<glm::vec4>& x1, std::vector<float>* clearance = nullptr);
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 }  // namespace fracref

@@ -163,13 +163,14 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
   hold_folding_motion(s_, x0, full, guard);
   const auto t_ccd = Clock::now();
   const std::vector<float> clearance_x0 = clearance_;
-  st.collisions_stopped = o_.collisions ? apply_collision_constraints(s_, b_, x0, full, &clearance_) : 0;
+  StepCollisions collisions(s_, b_, x0);
+  st.collisions_stopped = o_.collisions ? collisions.apply(full, &clearance_) : 0;
   // Vertices the collisions held can fold a face the guard passed; holding more of them cannot
   // make a collision, but it can expose one (collisions.hpp), so the collisions run again (from
   // the clearances at x0, which they take).
   while (o_.collisions && hold_folding_motion(s_, x0, full, guard) > 0) {
     clearance_ = clearance_x0;
-    st.collisions_stopped += apply_collision_constraints(s_, b_, x0, full, &clearance_);
+    st.collisions_stopped += collisions.apply(full, &clearance_);
   }
   std::vector<float> bound;
   auto bounds = [&] {
@@ -186,10 +187,10 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
     st.collisions_stopped += held;
     if (held == 0 || !o_.collisions) break;
     clearance_ = clearance_x0;
-    std::size_t more = apply_collision_constraints(s_, b_, x0, full, &clearance_);
+    std::size_t more = collisions.apply(full, &clearance_);
     while (hold_folding_motion(s_, x0, full, guard) > 0) {
       clearance_ = clearance_x0;
-      more += apply_collision_constraints(s_, b_, x0, full, &clearance_);
+      more += collisions.apply(full, &clearance_);
     }
     st.collisions_stopped += more;
     bounds();
