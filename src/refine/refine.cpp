@@ -179,11 +179,12 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
       bound[i] = i < clearance_x0.size() ? std::min(clearance_[i], clearance_x0[i]) : clearance_[i];
   };
   bounds();
-  // Holding the vertices of faces that would cross B can expose a collision of S with itself as
-  // holding for the collisions can (see above): the collisions run again, and so on until neither
+  // Holding the vertices of faces that would cross B, or of stars whose faces would cross each
+  // other (the collisions skip faces that share a vertex), can expose a collision of S with itself
+  // as holding for the collisions can (see above): the collisions run again, and so on until none
   // holds anything more (each round only holds vertices, so it ends).
   for (;;) {
-    const std::size_t held = hold_exterior_crossings(x0, full, bound);
+    const std::size_t held = hold_exterior_crossings(x0, full, bound) + hold_star_crossings(s_, x0, full);
     st.collisions_stopped += held;
     if (held == 0 || !o_.collisions) break;
     clearance_ = clearance_x0;
@@ -206,7 +207,7 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
     for (std::size_t i = 0; i < x0.size(); ++i) x1[i] = x0[i] + fraction * (full[i] - x0[i]);
     if (attempt > 0) apply_boundary_constraint(s_, b_, x0, x1);
     if (o_.rim_motion) snap_slid_rim(x1);
-    if (attempt > 0 && motion_folds(s_, x0, x1, guard)) continue;
+    if (attempt > 0 && (motion_folds(s_, x0, x1, guard) || motion_crosses_stars(s_, x0, x1))) continue;
     if (attempt > 0 && !new_crossings(x0, x1, bound).empty()) continue;
     s_.positions = x1;
     std::vector<glm::vec4> trial(x1.size()), vel(x1.size());

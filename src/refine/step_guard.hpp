@@ -1,13 +1,14 @@
 #pragma once
-// Local checks of a flow step before it is taken: faces that the step would fold over, and sheets
-// that would pass through each other around a junction edge (the collision search skips faces
-// that share a vertex, so neither would be seen there).
+// Local checks of a flow step before it is taken: faces that the step would fold over, sheets
+// that would pass through each other around a junction edge, and faces around a vertex that would
+// cross (the collision search skips faces that share a vertex, so none would be seen there).
 #include <cstddef>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "surface/fracture_surface.hpp"
+#include "util/parallel.hpp"
 
 namespace fracref {
 
@@ -35,5 +36,16 @@ std::size_t hold_folding_motion(const FractureSurface& s, const std::vector<glm:
 /// Whether hold_folding_motion would reset anything (x1 is not changed).
 bool motion_folds(const FractureSurface& s, const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
                   const StepGuardOptions& options = {});
+
+/// Resets to x0 the star (every face around it) of each vertex around which two faces that share
+/// only that vertex intersect elsewhere at x1 but not at x0 (exact); repeats until none does.
+/// Returns the number of vertices reset. The result does not depend on `threads`.
+/// \pre as hold_folding_motion.
+std::size_t hold_star_crossings(const FractureSurface& s, const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1,
+                                int threads = default_threads());
+
+/// Whether hold_star_crossings would reset anything (x1 is not changed).
+bool motion_crosses_stars(const FractureSurface& s, const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
+                          int threads = default_threads());
 
 }  // namespace fracref

@@ -1,0 +1,59 @@
+// The step's local checks (refine/step_guard.hpp).
+#include <gtest/gtest.h>
+
+#include "refine/exterior.hpp"
+#include "refine/step_guard.hpp"
+#include "refine_test_support.hpp"
+
+namespace fracref {
+namespace {
+
+using test::unit_cube;
+
+// Two faces that share only vertex 0: f = (0, 1, 2) in the plane z = 0.5 and g = (0, 3, 4), which
+// rises from vertex 0 over f.
+FractureSurface bowtie() {
+  std::vector<glm::vec4> p = {{0.2f, 0.2f, 0.5f, 1.0f}, {0.8f, 0.2f, 0.5f, 1.0f}, {0.2f, 0.8f, 0.5f, 1.0f},
+                              {0.6f, 0.3f, 0.8f, 1.0f}, {0.3f, 0.6f, 0.8f, 1.0f}};
+  std::vector<glm::uvec4> f = {{0, 1, 2, 0}, {0, 3, 4, 0}};
+  return make_fracture_surface(p, f, std::vector<glm::ivec2>(2, glm::ivec2(1, 0)), 2);
+}
+
+TEST(StepGuard, AFaceSwungThroughAnotherAtTheirSharedVertexIsHeld) {
+  const FractureSurface s = bowtie();
+  std::vector<glm::vec4> x1 = s.positions;
+  x1[3].z = 0.2f;  // g now pierces f along a segment from vertex 0
+  // g turns by less than 90 degrees and no junction edge is involved: the fold guard passes it.
+  std::vector<glm::vec4> folded = x1;
+  EXPECT_EQ(hold_folding_motion(s, s.positions, folded), 0u);
+  EXPECT_TRUE(motion_crosses_stars(s, s.positions, x1));
+  EXPECT_GT(hold_star_crossings(s, s.positions, x1), 0u);
+  EXPECT_EQ(x1[3], s.positions[3]);
+  EXPECT_FALSE(motion_crosses_stars(s, s.positions, x1));
+}
+
+TEST(StepGuard, AFaceThatPassesBesideTheOtherIsNotHeld) {
+  const FractureSurface s = bowtie();
+  std::vector<glm::vec4> x1 = s.positions;
+  x1[3] = {0.9f, 0.9f, 0.6f, 1.0f};  // g swings aside, still above f's plane
+  EXPECT_EQ(hold_star_crossings(s, s.positions, x1), 0u);
+  EXPECT_EQ(x1[3], glm::vec4(0.9f, 0.9f, 0.6f, 1.0f));
+}
+
+TEST(StepGuard, AFlatFanMovedWithinItsPlaneHoldsNothing) {
+  // Six faces around vertex 0, all in the plane z = 0.5 (every pair sharing only vertex 0 is
+  // coplanar: the planes through the fan's edges tell them apart).
+  std::vector<glm::vec4> p = {{0.5f, 0.5f, 0.5f, 1.0f}};
+  for (int k = 0; k < 6; ++k)
+    p.push_back({0.5f + 0.3f * std::cos(k * 1.0471976f), 0.5f + 0.3f * std::sin(k * 1.0471976f), 0.5f, 1.0f});
+  std::vector<glm::uvec4> f;
+  for (std::uint32_t k = 0; k < 6; ++k) f.push_back({0, 1 + k, 1 + (k + 1) % 6, 0});
+  const FractureSurface s = make_fracture_surface(p, f, std::vector<glm::ivec2>(6, glm::ivec2(1, 0)), 2);
+  std::vector<glm::vec4> x1 = s.positions;
+  x1[0] += glm::vec4(0.05f, -0.03f, 0.0f, 0.0f);
+  EXPECT_EQ(hold_star_crossings(s, s.positions, x1), 0u);
+  EXPECT_EQ(hold_folding_motion(s, s.positions, x1), 0u);
+}
+
+}  // namespace
+}  // namespace fracref
