@@ -136,6 +136,27 @@ TEST(GeomCcd, TinyMotionsOntoNeighboursAreAlwaysFound) {
   }
 }
 
+// Only the motion of the two primitives relative to each other matters: a pair carried far by a
+// common motion is settled by the filter on the travels relative to it, without the box search,
+// and still found when its relative motion closes the gap.
+TEST(GeomCcd, ACommonMotionIsTakenOut) {
+  const dvec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0), shift(5, -3, 7);
+  fracref::CcdStats stats;
+  EXPECT_FALSE(fracref::ccd_vertex_triangle({0.2, 0.2, 0.1}, a, b, c, dvec3(0.2, 0.2, 0.1) + shift, a + shift, b + shift,
+                                            c + shift, CcdOptions{}, &stats));
+  EXPECT_TRUE(stats.near);
+  EXPECT_FALSE(stats.solved);
+  EXPECT_TRUE(fracref::ccd_vertex_triangle({0.2, 0.2, 0.1}, a, b, c, dvec3(0.2, 0.2, -0.1) + shift, a + shift,
+                                           b + shift, c + shift));
+  EXPECT_FALSE(fracref::ccd_edge_edge({0, 0, 0.1}, {1, 0, 0.1}, {0.5, -1, 0}, {0.5, 1, 0}, dvec3(0, 0, 0.1) + shift,
+                                      dvec3(1, 0, 0.1) + shift, dvec3(0.5, -1, 0) + shift, dvec3(0.5, 1, 0) + shift,
+                                      CcdOptions{}, &stats));
+  EXPECT_TRUE(stats.near);
+  EXPECT_FALSE(stats.solved);
+  EXPECT_TRUE(fracref::ccd_edge_edge({0, 0, 0.1}, {1, 0, 0.1}, {0.5, -1, 0}, {0.5, 1, 0}, dvec3(0, 0, -0.1) + shift,
+                                     dvec3(1, 0, -0.1) + shift, dvec3(0.5, -1, 0) + shift, dvec3(0.5, 1, 0) + shift));
+}
+
 TEST(GeomCcd, IterationCapAnswersCollision) {
   const dvec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
   CcdOptions capped;

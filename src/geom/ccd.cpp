@@ -225,7 +225,7 @@ bool solve(Query& q, const CcdOptions& options, CcdStats* stats) {
     stack.push_back(second);
     stack.push_back(first);
   }
-  if (stats) *stats = {boxes, cap, true};
+  if (stats) stats->boxes = boxes, stats->hit_cap = cap, stats->solved = true;
   return collision;
 }
 
@@ -312,6 +312,22 @@ bool point_triangle_separated(const dvec3& p, const dvec3& a, const dvec3& b, co
   return false;
 }
 
+// The travels after taking the mean motion of the four corners out of every one: the distance
+// between two primitives at time t, each point a convex combination of its corners, is the same
+// when all corners move by c·t less (the weights sum to one on each side), so a pair whose
+// relative travels cannot close its gap cannot collide. A relative margin covers the rounding.
+// Whether they are smaller than the travels given, in sum (else the test would add nothing).
+bool relative_travels(const dvec3* x0, const dvec3* x1, const double travel[4], double out[4]) {
+  const dvec3 d[4] = {x1[0] - x0[0], x1[1] - x0[1], x1[2] - x0[2], x1[3] - x0[3]};
+  const dvec3 mean = 0.25 * ((d[0] + d[1]) + (d[2] + d[3]));
+  double sum = 0.0, given = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    out[k] = glm::length(d[k] - mean) * (1.0 + 1e-9) + 1e-300;
+    sum += out[k], given += travel[k];
+  }
+  return sum < given;
+}
+
 void travels(const dvec3* x0, const dvec3* x1, double out[4]) {
   for (int i = 0; i < 4; ++i) out[i] = glm::length(x1[i] - x0[i]);
 }
@@ -321,13 +337,17 @@ void travels(const dvec3* x0, const dvec3* x1, double out[4]) {
 bool ccd_vertex_triangle(const dvec3& p0, const dvec3& a0, const dvec3& b0, const dvec3& c0, const dvec3& p1,
                          const dvec3& a1, const dvec3& b1, const dvec3& c1, const double travel[4],
                          const CcdOptions& options, CcdStats* stats) {
-  const double needed = needed_distance(p0, a0, b0, c0, travel, 1, options);
-  if (point_triangle_separated(p0, a0, b0, c0, needed) ||
-      far_apart(std::sqrt(closest_point_on_triangle(p0, a0, b0, c0).squared_distance), needed)) {
-    if (stats) *stats = {};
-    return false;
-  }
   const dvec3 x0[4] = {p0, a0, b0, c0}, x1[4] = {p1, a1, b1, c1};
+  auto apart = [&](const double* t) {
+    const double needed = needed_distance(p0, a0, b0, c0, t, 1, options);
+    return point_triangle_separated(p0, a0, b0, c0, needed) ||
+           far_apart(std::sqrt(closest_point_on_triangle(p0, a0, b0, c0).squared_distance), needed);
+  };
+  if (stats) *stats = {};
+  if (apart(travel)) return false;
+  if (stats) stats->near = true;
+  double relative[4];
+  if (relative_travels(x0, x1, travel, relative) && apart(relative)) return false;
   Query q = make_query(true, x0, x1, options);
   return solve(q, options, stats);
 }
@@ -335,12 +355,16 @@ bool ccd_vertex_triangle(const dvec3& p0, const dvec3& a0, const dvec3& b0, cons
 bool ccd_edge_edge(const dvec3& a0, const dvec3& b0, const dvec3& c0, const dvec3& d0, const dvec3& a1,
                    const dvec3& b1, const dvec3& c1, const dvec3& d1, const double travel[4], const CcdOptions& options,
                    CcdStats* stats) {
-  const double needed = needed_distance(a0, b0, c0, d0, travel, 2, options);
-  if (edges_separated(a0, b0, c0, d0, needed) || far_apart(segment_distance(a0, b0, c0, d0), needed)) {
-    if (stats) *stats = {};
-    return false;
-  }
   const dvec3 x0[4] = {a0, b0, c0, d0}, x1[4] = {a1, b1, c1, d1};
+  auto apart = [&](const double* t) {
+    const double needed = needed_distance(a0, b0, c0, d0, t, 2, options);
+    return edges_separated(a0, b0, c0, d0, needed) || far_apart(segment_distance(a0, b0, c0, d0), needed);
+  };
+  if (stats) *stats = {};
+  if (apart(travel)) return false;
+  if (stats) stats->near = true;
+  double relative[4];
+  if (relative_travels(x0, x1, travel, relative) && apart(relative)) return false;
   Query q = make_query(false, x0, x1, options);
   return solve(q, options, stats);
 }

@@ -41,7 +41,11 @@ struct CcdOptions {
 struct CcdStats {
   int boxes = 0;             ///< parameter boxes examined
   bool hit_cap = false;      ///< stopped at max_iterations
-  bool solved = false;       ///< the distance filter let the query through to the box search
+  bool solved = false;       ///< the distance filters let the query through to the box search
+  /// The distance filter with the corners' own travels let the query through: once some corners
+  /// are sent back to x0 the pair may collide (the filter with the travels relative to the
+  /// corners' mean motion, which may have settled it, no longer holds then).
+  bool near = false;
 };
 
 /// Whether point p (p0 -> p1) and triangle (a, b, c) (a0 -> a1, ...) come within
@@ -115,8 +119,9 @@ struct StepCcdOptions {
   /// null = derived from the triangles. \pre exactly the edges of `triangles`.
   const std::vector<std::array<std::uint32_t, 2>>* edges = nullptr;
   /// find_step_collisions only: when set, receives (sorted) every pair the broad phase and the
-  /// narrow phase's distance filter let through, colliding or not: with the travels of this step no other pair
-  /// can collide, nor can it after any vertices are sent back to x0.
+  /// narrow phase's distance filter with the corners' own travels let through (CcdStats::near),
+  /// colliding or not: with the travels of this step no other pair can collide, nor can it after
+  /// any vertices are sent back to x0.
   std::vector<CcdPair>* examined = nullptr;
   /// find_step_collisions only: when set, the broad phase and the distance filter are skipped
   /// and only these pairs are tested (those with an active vertex, as above). \pre `examined`

@@ -261,7 +261,7 @@ void test_vertex_triangle(const StepTrees& trees, std::uint32_t v, const std::ar
   CcdStats stats;
   const bool hit = ccd_vertex_triangle(x0[v], x0[tri[0]], x0[tri[1]], x0[tri[2]], x1[v], x1[tri[0]], x1[tri[1]],
                                        x1[tri[2]], travel, ccd, &stats);
-  if (hit || (record && stats.solved)) found.push_back({vertex_pair(CcdKind::vertex_triangle, v, tri, t), hit});
+  if (hit || (record && stats.near)) found.push_back({vertex_pair(CcdKind::vertex_triangle, v, tri, t), hit});
 }
 
 // Tests an edge-edge pair, e < f, recording it as above.
@@ -274,7 +274,7 @@ void test_edge_edge(const StepTrees& trees, const Edge& e, const Edge& f, const 
   CcdStats stats;
   const bool hit = ccd_edge_edge(x0[e[0]], x0[e[1]], x0[f[0]], x0[f[1]], x1[e[0]], x1[e[1]], x1[f[0]], x1[f[1]], travel,
                                  ccd, &stats);
-  if (hit || (record && stats.solved))
+  if (hit || (record && stats.near))
     found.push_back({{CcdKind::edge_edge, {e[0], e[1], f[0], f[1]}, CcdPair::kNoTriangle}, hit});
 }
 
