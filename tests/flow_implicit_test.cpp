@@ -98,7 +98,9 @@ TEST(ImplicitStep, MotionStaysInTheFilter) {
   filter[24] = glm::outerProduct(u, u);  // the centre vertex (3, 3) moves only along u
   const std::vector<glm::dvec3> d = solve(s, 0.5, filter);
   for (std::size_t i = 0; i < d.size(); ++i)
-    if (filter[i] == glm::dmat3(0.0)) EXPECT_EQ(d[i], glm::dvec3(0.0)) << "vertex " << i;
+    if (filter[i] == glm::dmat3(0.0)) {
+      EXPECT_EQ(d[i], glm::dvec3(0.0)) << "vertex " << i;
+    }
   EXPECT_LT(glm::length(d[24] - glm::dot(d[24], u) * u), 1e-9);
 }
 

@@ -22,6 +22,12 @@ using namespace fracref::test;
 
 namespace {
 
+FlipOptions flip_options(double min_angle, double max_dihedral) {
+  FlipOptions o;
+  o.min_angle = min_angle, o.max_dihedral = max_dihedral;
+  return o;
+}
+
 /// ψ = 0.3 + 3·|z − h(x, y)|: weak along a wavy surface h near the sheet.
 FieldGrid4 wavy_field() {
   // 32 nodes: the sheet's plane z = 0.5 falls inside a cell (with 33 it lies on a node plane,
@@ -261,14 +267,14 @@ TEST(RefineLoop, FlipsRemoveSlimTrianglesAndKeepInvariants) {
   FractureSurface s = make_fracture_surface(p, {{0, 1, 2, 0}, {1, 0, 3, 0}}, {{1, 0}, {1, 0}}, 2);
   std::vector<glm::vec4> psi(s.positions.size(), glm::vec4(1.0f, 0.0f, 0.0f, 0.0f));
   ExteriorSurface none;
-  EXPECT_EQ(flip_slim_triangles(s, psi, none, FlipOptions{20.0, 5.0}), 1u);
+  EXPECT_EQ(flip_slim_triangles(s, psi, none, flip_options(20.0, 5.0)), 1u);
   ASSERT_EQ(validate(s), "");
   EXPECT_NE(find_edge(s, 2, 3), kNoEdge);
   EXPECT_EQ(find_edge(s, 0, 1), kNoEdge);
   // A bent pair (dihedral above the limit) is left alone: flipping would change the shape.
   p[2].z = 0.5f;
   FractureSurface bent = make_fracture_surface(p, {{0, 1, 2, 0}, {1, 0, 3, 0}}, {{1, 0}, {1, 0}}, 2);
-  EXPECT_EQ(flip_slim_triangles(bent, psi, none, FlipOptions{20.0, 5.0}), 0u);
+  EXPECT_EQ(flip_slim_triangles(bent, psi, none, flip_options(20.0, 5.0)), 0u);
 }
 
 TEST(RefineLoop, NoFlipOntoAnEdgeThatExists) {
@@ -283,7 +289,7 @@ TEST(RefineLoop, NoFlipOntoAnEdgeThatExists) {
   EXPECT_EQ(faces, glm::uvec2(0, 1));
   EXPECT_FALSE(flip_candidates(s, ab, opposite, faces));
   std::vector<glm::vec4> psi(s.positions.size(), glm::vec4(1.0f, 0.0f, 0.0f, 0.0f));
-  EXPECT_EQ(flip_slim_triangles(s, psi, ExteriorSurface{}, FlipOptions{20.0, 5.0}), 0u);
+  EXPECT_EQ(flip_slim_triangles(s, psi, ExteriorSurface{}, flip_options(20.0, 5.0)), 0u);
   ASSERT_EQ(validate(s), "");
 }
 
@@ -313,12 +319,12 @@ TEST(RefineLoop, QuadsTouchingAJunctionAreNotFlipped) {
   const ExteriorSurface none;
   FractureSurface regular = make_fracture_surface(p, faces, pieces, 3);
   ASSERT_EQ(regular.edge_special[find_edge(regular, 0, 2)], kEdgeRegular);
-  EXPECT_EQ(flip_slim_triangles(regular, psi, none, FlipOptions{20.0, 5.0}), 1u);
+  EXPECT_EQ(flip_slim_triangles(regular, psi, none, flip_options(20.0, 5.0)), 1u);
   faces.push_back({2, 0, 5, 0});
   pieces.push_back({1, 2});
   FractureSurface junction = make_fracture_surface(p, faces, pieces, 3);
   ASSERT_EQ(junction.edge_special[find_edge(junction, 0, 2)], kEdgeNonManifold);
-  EXPECT_EQ(flip_slim_triangles(junction, psi, none, FlipOptions{20.0, 5.0}), 0u);
+  EXPECT_EQ(flip_slim_triangles(junction, psi, none, flip_options(20.0, 5.0)), 0u);
   EXPECT_NE(find_edge(junction, 0, 1), kNoEdge);
 }
 
@@ -330,7 +336,7 @@ TEST(RefineLoop, FlipThatWouldCutAnotherSheetIsSkipped) {
   std::vector<glm::vec4> psi(7, glm::vec4(1.0f, 0.0f, 0.0f, 0.0f));
   ExteriorSurface none;
   FractureSurface alone = make_fracture_surface(p, quad, {{1, 0}, {1, 0}}, 2);
-  EXPECT_EQ(flip_slim_triangles(alone, psi, none, FlipOptions{20.0, 25.0}), 1u);
+  EXPECT_EQ(flip_slim_triangles(alone, psi, none, flip_options(20.0, 25.0)), 1u);
   // A small upright triangle over the middle of a-b reaches through the flipped surface only.
   for (const glm::vec4& x : {glm::vec4(0.5f, -0.005f, 0.005f, 1), glm::vec4(0.5f, 0.005f, 0.005f, 1), glm::vec4(0.5f, 0, 0.03f, 1)})
     p.push_back(x);
@@ -338,7 +344,7 @@ TEST(RefineLoop, FlipThatWouldCutAnotherSheetIsSkipped) {
   faces.push_back({4, 5, 6, 0});
   FractureSurface s = make_fracture_surface(p, faces, {{1, 0}, {1, 0}, {1, 0}}, 2);
   ASSERT_EQ(face_intersections(s), 0u);
-  EXPECT_EQ(flip_slim_triangles(s, psi, none, FlipOptions{20.0, 25.0}), 0u);
+  EXPECT_EQ(flip_slim_triangles(s, psi, none, flip_options(20.0, 25.0)), 0u);
   EXPECT_EQ(validate(s), "");
   EXPECT_EQ(face_intersections(s), 0u);
   EXPECT_NE(find_edge(s, 0, 1), kNoEdge);
@@ -356,7 +362,7 @@ TEST(RefineLoop, LaterOfTwoFlipsWhoseNewFacesMeetIsUndone) {
   const std::vector<glm::uvec4> quad_a = {{0, 1, 2, 0}, {1, 0, 3, 0}}, quad_b = {{4, 5, 6, 0}, {5, 4, 7, 0}};
   const std::vector<glm::vec4> psi(p.size(), glm::vec4(1.0f, 0.0f, 0.0f, 0.0f));
   const ExteriorSurface none;
-  const FlipOptions options{20.0, 25.0};
+  const FlipOptions options = flip_options(20.0, 25.0);
   auto surface = [&](std::vector<glm::uvec4> faces) {
     return make_fracture_surface(p, faces, std::vector<glm::ivec2>(faces.size(), glm::ivec2(1, 0)), 2);
   };
@@ -404,7 +410,8 @@ TEST(RefineLoop, FlipsDoNotDependOnTheThreadCount) {
   std::vector<glm::vec4> psi(start.positions.size(), glm::vec4(1.0f, 0.0f, 0.0f, 0.0f));
   ExteriorSurface none;
   FractureSurface one = start, three = start;
-  FlipOptions o{20.0, 25.0, 1};
+  FlipOptions o = flip_options(20.0, 25.0);
+  o.threads = 1;
   const std::size_t flips = flip_slim_triangles(one, psi, none, o);
   o.threads = 3;
   EXPECT_EQ(flip_slim_triangles(three, psi, none, o), flips);

@@ -43,7 +43,9 @@ void expect_embedded(const FractureSurface& s, const rim::ExteriorMesh& m, const
   for (std::uint32_t v = 0; v < s.positions.size(); ++v) {
     const bool boundary = (s.vertex_flags[v] & kVertexBoundary) != 0;
     EXPECT_EQ(bool(rim.on_b[v]), boundary) << "vertex " << v;
-    if (rim.on_b[v]) EXPECT_LT(glm::distance(glm::dvec3(glm::vec3(s.positions[v])), rim.at[v].point), 1e-6) << v;
+    if (rim.on_b[v]) {
+      EXPECT_LT(glm::distance(glm::dvec3(glm::vec3(s.positions[v])), rim.at[v].point), 1e-6) << v;
+    }
   }
 }
 

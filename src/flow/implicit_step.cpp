@@ -157,7 +157,7 @@ ImplicitStepStats ConjugateGradients::solve(std::vector<glm::dvec3> r, std::span
   double rz = chunked_sum(n, threads_, precondition);
   p = z;
   ImplicitStepStats st;
-  const double rz0 = rz, goal = o.tolerance * o.tolerance * rb;
+  const double goal = o.tolerance * o.tolerance * rb;
   while (rz > goal && rz > 0.0 && st.iterations < o.max_iterations) {
     const double pq = multiply(p, q);
     if (!(pq > 0.0)) break;
