@@ -31,29 +31,10 @@ bool near_exterior(const glm::uvec4& f, const std::vector<glm::vec4>& x, const r
   return false;
 }
 
-bool face_crosses(const glm::uvec4& f, const std::vector<glm::vec4>& x, const rim::ExteriorMesh& m, const rim::RimOnB& rim,
-                  std::vector<std::uint32_t>& near) {
-  const Triangle3 face{point(x, rim, f.x), point(x, rim, f.y), point(x, rim, f.z)};
-  Aabb box;
-  for (const glm::dvec3& p : face) box.expand(p);
-  near.clear();
-  query_box(m.bvh, box, near);
-  for (std::uint32_t t : near) {
-    const auto& tri = m.triangles[t];
-    bool holds = false;
-    for (int k = 0; k < 3; ++k) holds = holds || (on_rim(rim, f[k]) && rim::location_in_face(m, rim.at[f[k]], t));
-    if (!holds) {
-      if (triangles_intersect(face, {m.positions[tri[0]], m.positions[tri[1]], m.positions[tri[2]]})) {
-        return true;
-      }
-      continue;
-    }
-    for (int k = 0; k < 3; ++k)
-      if (!on_rim(rim, f[k]) && orient3d(m.positions[tri[0]], m.positions[tri[1]], m.positions[tri[2]], face[std::size_t(k)]) <= 0) {
-        return true;
-      }
-  }
-  return false;
+bool face_crosses(const glm::uvec4& f, const std::vector<glm::vec4>& x, const rim::ExteriorMesh& m, const rim::RimOnB& rim) {
+  std::array<const rim::Location*, 3> at{};
+  for (int k = 0; k < 3; ++k) at[std::size_t(k)] = on_rim(rim, f[k]) ? &rim.at[f[k]] : nullptr;
+  return rim::meets_exterior_off_rim(m, {point(x, rim, f.x), point(x, rim, f.y), point(x, rim, f.z)}, at);
 }
 
 }  // namespace
@@ -61,8 +42,7 @@ bool face_crosses(const glm::uvec4& f, const std::vector<glm::vec4>& x, const ri
 bool face_crosses_exterior(const glm::uvec4& face, const std::vector<glm::vec4>& x, const rim::ExteriorMesh& exterior,
                            const rim::RimOnB& rim, const std::vector<float>& clearance) {
   if (!near_exterior(face, x, rim, clearance)) return false;
-  std::vector<std::uint32_t> near;
-  return face_crosses(face, x, exterior, rim, near);
+  return face_crosses(face, x, exterior, rim);
 }
 
 std::vector<std::uint32_t> faces_crossing_exterior(const FractureSurface& s, const std::vector<glm::vec4>& x,
@@ -77,8 +57,7 @@ std::vector<std::uint32_t> faces_crossing_exterior(const FractureSurface& s, con
   std::vector<char> crossing(faces.size(), 0);
   parallel_chunks(faces.size(), chunk_count(faces.size(), 256), default_threads(),
                   [&](std::size_t, std::size_t begin, std::size_t end) {
-                    std::vector<std::uint32_t> near;
-                    for (std::size_t i = begin; i < end; ++i) crossing[i] = face_crosses(s.faces[faces[i]], x, exterior, rim, near);
+                    for (std::size_t i = begin; i < end; ++i) crossing[i] = face_crosses(s.faces[faces[i]], x, exterior, rim);
                   });
   std::vector<std::uint32_t> out;
   for (std::size_t i = 0; i < faces.size(); ++i)

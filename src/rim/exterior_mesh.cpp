@@ -5,6 +5,8 @@
 #include <limits>
 #include <string>
 
+#include "geom/intersect.hpp"
+#include "geom/predicates.hpp"
 #include "rim/exterior_mesh.hpp"
 #include "util/error.hpp"
 
@@ -300,6 +302,27 @@ Location location_between(const ExteriorMesh& m, const Location& a, const Locati
   glm::dvec3 w = (1.0 - t) * location_weights(m, a, f) + t * location_weights(m, b, f);
   w = glm::max(w, glm::dvec3(0.0));
   return location_from_weights(m, f, w / (w.x + w.y + w.z));
+}
+
+bool meets_exterior_off_rim(const ExteriorMesh& m, const std::array<glm::dvec3, 3>& corners,
+                            const std::array<const Location*, 3>& rim, bool holders) {
+  Aabb box;
+  for (const glm::dvec3& p : corners) box.expand(p);
+  std::vector<std::uint32_t> near;
+  query_box(m.bvh, box, near);
+  for (std::uint32_t t : near) {
+    const auto& tri = m.triangles[t];
+    const glm::dvec3 a = m.positions[tri[0]], b = m.positions[tri[1]], c = m.positions[tri[2]];
+    bool holds = false;
+    for (int k = 0; k < 3; ++k) holds = holds || (rim[std::size_t(k)] && location_in_face(m, *rim[std::size_t(k)], t));
+    if (!holds) {
+      if (triangles_intersect(corners, {a, b, c})) return true;
+      continue;
+    }
+    for (int k = 0; k < 3 && holders; ++k)
+      if (!rim[std::size_t(k)] && orient3d(a, b, c, corners[std::size_t(k)]) <= 0) return true;
+  }
+  return false;
 }
 
 std::string format_point(const glm::dvec3& p) {

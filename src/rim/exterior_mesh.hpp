@@ -106,6 +106,15 @@ struct Trace {
 Trace trace_on_exterior(const ExteriorMesh& m, const Location& p, const Location& q, double plane_tolerance,
                         const glm::dvec3& first_plane = glm::dvec3(0.0));
 
+/// Whether the triangle `corners` meets B other than at its own rim points (the contact rule of
+/// refine/exterior_contact.hpp, exact): a B triangle that holds none of `rim` must not meet it
+/// (triangles_intersect); one that holds some must have every corner without a location strictly
+/// on B's inner side of its plane (orient3d); with `holders` false, those are not judged. rim[k]
+/// is corner k's location on B, or null.
+/// \pre a corner with a location lies at its point.
+bool meets_exterior_off_rim(const ExteriorMesh& m, const std::array<glm::dvec3, 3>& corners,
+                            const std::array<const Location*, 3>& rim, bool holders = true);
+
 /// "(x, y, z)" with 9 significant digits, for messages.
 std::string format_point(const glm::dvec3& p);
 
