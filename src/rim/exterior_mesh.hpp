@@ -106,6 +106,12 @@ struct Trace {
 Trace trace_on_exterior(const ExteriorMesh& m, const Location& p, const Location& q, double plane_tolerance,
                         const glm::dvec3& first_plane = glm::dvec3(0.0));
 
+/// Walks from p to q across B along the curve where B meets the plane through p and q with
+/// normal `plane_normal` only (trace_on_exterior's walk, no other plane).
+/// \throw RunError with the reason when that walk does not reach q, or the plane is degenerate.
+Trace trace_in_plane(const ExteriorMesh& m, const Location& p, const Location& q, double plane_tolerance,
+                     const glm::dvec3& plane_normal);
+
 /// Whether the triangle `corners` meets B other than at its own rim points (the contact rule of
 /// refine/exterior_contact.hpp, exact): a B triangle that holds none of `rim` must not meet it
 /// (triangles_intersect); one that holds some must have every corner without a location strictly

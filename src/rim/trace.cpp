@@ -141,4 +141,19 @@ Trace trace_on_exterior(const ExteriorMesh& m, const Location& p, const Location
   throw RunError(first_reason);
 }
 
+Trace trace_in_plane(const ExteriorMesh& m, const Location& p, const Location& q, double plane_tolerance,
+                     const glm::dvec3& plane_normal) {
+  const glm::dvec3 d = q.point - p.point;
+  if (same_location(p, q) || glm::length(d) == 0.0) throw RunError("its ends lie on the same point of the exterior");
+  const double len = glm::length(plane_normal);
+  // The plane must hold the chord: its normal at right angles to it (up to rounding).
+  if (!(len > 0.0) || std::abs(glm::dot(plane_normal, d)) > 1e-6 * len * glm::length(d))
+    throw RunError("the plane does not hold it");
+  Trace trace;
+  std::string why;
+  Walker walker(m, p, q, plane_normal / len, plane_tolerance);
+  if (!walker.run(trace, why)) throw RunError(why);
+  return trace;
+}
+
 }  // namespace fracref::rim
