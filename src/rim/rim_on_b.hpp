@@ -56,12 +56,22 @@ struct Embedding {
   TrimStats trim;                     ///< S cut to B (rim/trim_to_exterior.hpp)
 };
 
-/// Locates every rim vertex of S on B and splits every rim edge whose ends share no triangle of
-/// B where its trace (trace_on_exterior) crosses B's edges: the face on the edge becomes a fan
-/// from its opposite corner over the trace's points (a face with two or three traced sides, a
-/// fan from its centroid). New vertices and faces are appended (faces keep their pieces), the
-/// adjacency rebuilt. Rim vertices are moved to their locations (as floats). Then S is trimmed to
-/// B (trim_to_exterior): cut along S ∩ B, the parts outside B dropped.
+/// Locates every rim vertex of S on B (rim vertices are moved to their locations, as floats) and
+/// embeds every rim edge whose ends share no triangle of B (a chord of B) along its trace across
+/// B's edges. A face with such sides is split, one face at a time, by the first of these that
+/// keeps S embedded, each checked before it is made (its triangles face as the face did, none is
+/// a flap lying on B, none meets B other than at its rim points, nor another face of S, and no
+/// trace runs through a B vertex that holds a rim vertex):
+///  - the traces at right angles to B (trace_on_exterior), the face a fan from the corner opposite
+///    its one traced side, or from its centroid;
+///  - the traces in the face's own plane (trace_in_plane), the flat polygon they make with the
+///    face's corners triangulated in that plane.
+/// A face with neither (a chord over a concave part of B, outside it, with its face crossing B)
+/// is left to the trim: S is cut along S ∩ B and the parts outside B dropped (trim_to_exterior),
+/// and what is left of the chords, with the edges of the flaps the trim dropped, is split the
+/// same way; a face there with no checked split becomes the fan all the same, and S is trimmed
+/// once more. New vertices and faces are appended (faces keep their pieces), the adjacency
+/// rebuilt.
 /// \pre s's adjacency current.
 /// \throw RunError naming the vertex or edge: a rim vertex farther than snap_tolerance from B,
 ///        two rim vertices on one B vertex, a rim edge that cannot be traced, a trace through a

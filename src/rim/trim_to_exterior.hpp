@@ -29,8 +29,10 @@ namespace fracref::rim {
 /// point_in_mesh). The kept faces keep their pieces and winding; the new vertices are appended
 /// (their weights in `added`, their locations in `rim`); the adjacency is rebuilt. Every new rim
 /// edge is a segment F ∩ T, in one triangle of B.
-/// \pre s's adjacency current; every rim edge of s lies in one triangle of B (embed_rim's traces);
-///      rim covers s's vertices.
+/// A rim edge that lies in no one triangle of B (a chord of B that embed_rim has not traced yet)
+/// is an edge of S like any other there: cut where it crosses B, its ends on B counted as on every
+/// triangle that holds them.
+/// \pre s's adjacency current; rim covers s's vertices.
 /// \throw RunError naming the face when the intersection is degenerate (a segment with one end,
 ///        or more than two ends), a face cannot be triangulated along its segments, or the result
 ///        is not a valid S.
