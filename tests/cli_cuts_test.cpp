@@ -16,6 +16,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
+const fs::path kCutsData = fs::path(FRACREF_SOURCE_DIR) / "tests" / "data" / "cuts";
+
 const char* kCube =
     "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n"
     "f 1 3 2\nf 2 3 4\nf 5 6 7\nf 6 8 7\nf 1 2 5\nf 2 6 5\nf 3 7 4\nf 4 7 8\nf 1 5 3\nf 3 5 7\nf 2 4 6\nf 4 8 6\n";
@@ -91,6 +93,29 @@ TEST(CliCuts, AnObliqueDiscInsideTheCubeGoesEndToEnd) {
   t.write("disc.obj", disc);
   auto s = t.write("scene.json", R"({"exterior": "cube.obj", "fracture": {"kind": "cuts", "mesh": "disc.obj"},
     "field": {"type": "marble", "resolution": [16, 16, 16]}, "refine": {"max_iterations": 3, "max_triangles": 4000}})");
+  const std::string out = (t.path / "out").string();
+  auto r = run("refine " + s.string() + " -o " + out + " --backend cpu -q",
+               "VK_ICD_FILENAMES=/nonexistent VK_DRIVER_FILES=/nonexistent");
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto report = nlohmann::json::parse(slurp(t.path / "out" / "report.json"));
+  EXPECT_EQ(report["pieces"], 2);
+  r = run("check " + out);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+}
+
+// A plane through a bumpy sphere (tests/data/cuts/bumpy_sphere.obj: an icosphere of 320 faces
+// with radius 1 + 0.3 sin(4x + 1) sin(4y + 2) sin(4z + 0.5)) that meets B at grazing angles and
+// over concave parts, where rim chords of the coarse S run outside B: their faces must be trimmed
+// to B before they are split along their traces, or the traced rim and the trimmed rim cross
+// (issue 30, "two traced paths cross").
+TEST(CliCuts, APlaneGrazingABumpySphereIsCutAlongIt) {
+  TempDir t;
+  fs::copy_file(kCutsData / "bumpy_sphere.obj", t.path / "bumpy.obj");
+  t.write("cut.obj",
+          "v 1.89010598 0.584303097 -3.33085727\nv 1.89010598 -3.44828757 0.349501318\n"
+          "v -1.90444723 -0.802176233 3.24886116\nv -1.90444723 3.23041443 -0.431497426\nf 1 2 3 4\n");
+  auto s = t.write("scene.json", R"({"exterior": "bumpy.obj", "fracture": {"kind": "cuts", "mesh": "cut.obj"},
+    "field": {"type": "marble", "resolution": [16, 16, 16]}, "refine": {"max_iterations": 3}})");
   const std::string out = (t.path / "out").string();
   auto r = run("refine " + s.string() + " -o " + out + " --backend cpu -q",
                "VK_ICD_FILENAMES=/nonexistent VK_DRIVER_FILES=/nonexistent");
