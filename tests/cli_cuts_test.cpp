@@ -22,6 +22,18 @@ const char* kCube =
     "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n"
     "f 1 3 2\nf 2 3 4\nf 5 6 7\nf 6 8 7\nf 1 2 5\nf 2 6 5\nf 3 7 4\nf 4 7 8\nf 1 5 3\nf 3 5 7\nf 2 4 6\nf 4 8 6\n";
 
+// Refines `scene` (CPU backend, no Vulkan) into t/out and expects two pieces that pass check.
+void expect_two_checked_pieces(const TempDir& t, const fs::path& scene) {
+  const std::string out = (t.path / "out").string();
+  auto r = run("refine " + scene.string() + " -o " + out + " --backend cpu -q",
+               "VK_ICD_FILENAMES=/nonexistent VK_DRIVER_FILES=/nonexistent");
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto report = nlohmann::json::parse(slurp(t.path / "out" / "report.json"));
+  EXPECT_EQ(report["pieces"], 2);
+  r = run("check " + out);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+}
+
 }  // namespace
 
 TEST(CliCuts, AHalfwayCutBecomesTwoPieces) {
@@ -93,14 +105,7 @@ TEST(CliCuts, AnObliqueDiscInsideTheCubeGoesEndToEnd) {
   t.write("disc.obj", disc);
   auto s = t.write("scene.json", R"({"exterior": "cube.obj", "fracture": {"kind": "cuts", "mesh": "disc.obj"},
     "field": {"type": "marble", "resolution": [16, 16, 16]}, "refine": {"max_iterations": 3, "max_triangles": 4000}})");
-  const std::string out = (t.path / "out").string();
-  auto r = run("refine " + s.string() + " -o " + out + " --backend cpu -q",
-               "VK_ICD_FILENAMES=/nonexistent VK_DRIVER_FILES=/nonexistent");
-  ASSERT_EQ(r.code, 0) << r.err;
-  auto report = nlohmann::json::parse(slurp(t.path / "out" / "report.json"));
-  EXPECT_EQ(report["pieces"], 2);
-  r = run("check " + out);
-  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  expect_two_checked_pieces(t, s);
 }
 
 // A plane through a bumpy sphere (tests/data/cuts/bumpy_sphere.obj: an icosphere of 320 faces
@@ -116,12 +121,5 @@ TEST(CliCuts, APlaneGrazingABumpySphereIsCutAlongIt) {
           "v -1.90444723 -0.802176233 3.24886116\nv -1.90444723 3.23041443 -0.431497426\nf 1 2 3 4\n");
   auto s = t.write("scene.json", R"({"exterior": "bumpy.obj", "fracture": {"kind": "cuts", "mesh": "cut.obj"},
     "field": {"type": "marble", "resolution": [16, 16, 16]}, "refine": {"max_iterations": 3}})");
-  const std::string out = (t.path / "out").string();
-  auto r = run("refine " + s.string() + " -o " + out + " --backend cpu -q",
-               "VK_ICD_FILENAMES=/nonexistent VK_DRIVER_FILES=/nonexistent");
-  ASSERT_EQ(r.code, 0) << r.err;
-  auto report = nlohmann::json::parse(slurp(t.path / "out" / "report.json"));
-  EXPECT_EQ(report["pieces"], 2);
-  r = run("check " + out);
-  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  expect_two_checked_pieces(t, s);
 }
