@@ -308,7 +308,9 @@ bool meets_exterior_off_rim(const ExteriorMesh& m, const std::array<glm::dvec3, 
                             const std::array<const Location*, 3>& rim, bool holders) {
   Aabb box;
   for (const glm::dvec3& p : corners) box.expand(p);
-  std::vector<std::uint32_t> near;
+  // Called per face of S in the refiner's contact checks: one candidate buffer per thread.
+  thread_local std::vector<std::uint32_t> near;
+  near.clear();
   query_box(m.bvh, box, near);
   for (std::uint32_t t : near) {
     const auto& tri = m.triangles[t];
