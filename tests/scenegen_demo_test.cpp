@@ -294,9 +294,11 @@ TEST(ScenegenDemo, Clay) {
   const LoadedDemo d = check_demo("clay", {}, folder.path());
   EXPECT_EQ(d.scene.field.type, FieldType::fbm);
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(32, 64, 64));
-  // Finer split thresholds than the defaults: the paper's 40K triangles are within reach.
-  EXPECT_EQ(d.scene.refine.tau, 5e-5);
+  // Finer split thresholds and convergence than the defaults: the paper's 40K triangles are
+  // within reach.
+  EXPECT_EQ(d.scene.refine.tau, 5e-6);
   EXPECT_EQ(d.scene.refine.delta, 5e-5);
+  EXPECT_EQ(d.scene.refine.tolerance, 2e-4);
   check_backward_remeshing(d);
   // Large twisting before anything tears (late: from frame 30).
   EXPECT_GT(largest_motion(d, 29), 0.5);

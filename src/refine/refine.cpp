@@ -28,9 +28,6 @@ namespace {
 constexpr double kDefaultStep = 0.004;
 constexpr int kBacktracks = 6;
 constexpr int kInsertBacktracks = 10;
-// Converged: the relative decrease of E in an iteration below the tolerance, and at most this
-// fraction of the faces split in it (one random sample per face can keep finding a last few).
-constexpr double kSplitTail = 0.01;
 constexpr double kConformTolerance = 2e-4;  // of the diagonal
 constexpr int kConformPasses = 8;
 // Passes of split_rim_chords after the loop (a pass splits each face at most once).
@@ -77,9 +74,10 @@ class Refiner {
   // Containment splits: lengths in the scene's unit, nothing split below the sample spacing.
   TuckOptions tuck_options() const { return {.scale = o_.scale, .min_edge = o_.delta}; }
   bool flow_step(double ceiling, IterationStats& st);
-  std::size_t refine_step(std::uint32_t iteration);
-  SplitRequest bisection(const SplitRequest& r, glm::vec3& start) const;
+  std::size_t refine_step(std::uint32_t iteration, bool propagate);
+  SplitRequest bisection(const SplitRequest& r, bool propagate, glm::vec3& start) const;
   IterationStats iterate(std::uint32_t iteration, double e_before);
+  IterationStats attempt(std::uint32_t iteration, double e_before, bool graded, bool& undone);
   struct Verdict {
     bool split = false;
     float offset = 0.0f;  // how far the step takes the sample off its element
@@ -318,7 +316,7 @@ float element_offset(const ElementShape& e, const glm::vec3& d) {
 // mend, which the fold guard and the collisions then held still. Longest-edge bisection (Rivara
 // 1984) keeps every angle above a bound set by the coarse surface: the sample still says where
 // S needs triangles, the bisection only how they are cut.
-SplitRequest Refiner::bisection(const SplitRequest& r, glm::vec3& start) const {
+SplitRequest Refiner::bisection(const SplitRequest& r, bool propagate, glm::vec3& start) const {
   auto length = [&](std::uint32_t e) {
     return glm::distance(glm::vec3(s_.positions[s_.edges[e].x]), glm::vec3(s_.positions[s_.edges[e].y]));
   };
@@ -328,12 +326,25 @@ SplitRequest Refiner::bisection(const SplitRequest& r, glm::vec3& start) const {
     for (int c = 0; c < 3; ++c)
       if (const float l = length(s_.face_edges[3 * f + c]); l > longest) longest = l, edge = s_.face_edges[3 * f + c];
   };
+  auto consider_faces_around = [&](std::uint32_t e) {
+    for (std::uint32_t k = s_.ef_offsets[e]; k < s_.ef_offsets[e + 1]; ++k) consider_face(s_.ef_faces[k]);
+  };
+  auto midpoint = [&](std::uint32_t e) {
+    const glm::uvec2 ab = s_.edges[e];
+    const glm::vec3 m = 0.5f * (glm::vec3(s_.positions[ab.x]) + glm::vec3(s_.positions[ab.y]));
+    return s_.edge_special[e] == kEdgeBoundary ? glm::vec3(b_.closest_point(glm::dvec3(m))) : m;
+  };
   if (r.kind == SplitRequest::kFace) consider_face(r.element);
-  else
-    for (std::uint32_t k = s_.ef_offsets[r.element]; k < s_.ef_offsets[r.element + 1]; ++k) consider_face(s_.ef_faces[k]);
-  const glm::uvec2 ab = s_.edges[edge];
-  start = 0.5f * (glm::vec3(s_.positions[ab.x]) + glm::vec3(s_.positions[ab.y]));
-  if (s_.edge_special[edge] == kEdgeBoundary) start = glm::vec3(b_.closest_point(glm::dvec3(start)));
+  else consider_faces_around(r.element);
+  // The longest-edge propagating path (Rivara 1997): while a face across the chosen regular edge
+  // has a longer edge, that edge goes first. Splitting an edge that is not its neighbour's longest
+  // cut the neighbour into a needle, and a large face beside a refined patch became a fan of them.
+  // Each step takes a strictly longer edge, so the path ends.
+  for (std::uint32_t from = kNoEdge; propagate && from != edge && s_.edge_special[edge] == kEdgeRegular;) {
+    from = edge;
+    consider_faces_around(edge);
+  }
+  start = midpoint(edge);
   return {SplitRequest::kEdge, edge, glm::vec3(0.5f, 0.5f, 0.0f)};
 }
 
@@ -345,7 +356,7 @@ SplitRequest Refiner::bisection(const SplitRequest& r, glm::vec3& start) const {
 // (its position at creation). A split on S leaves the shape as it was, so no collision test is
 // needed here: the flow step that follows moves the new vertices with all the others, under the
 // same collision constraints. (A rim edge lies in one triangle of B, so its midpoint is on B.)
-std::size_t Refiner::refine_step(std::uint32_t iteration) {
+std::size_t Refiner::refine_step(std::uint32_t iteration, bool propagate) {
   const float scale = float(o_.scale);
   SampleSet set = draw_samples(s_, o_.seed, iteration, float(o_.delta) * scale, float(o_.rim_delta) * scale);
   std::vector<char> on_boundary(set.points.size(), 0);
@@ -373,7 +384,7 @@ std::size_t Refiner::refine_step(std::uint32_t iteration) {
   for (std::size_t k = 0; k < set.points.size() && !budget_reached_; ++k) {
     if (!verdicts[k].split) continue;
     glm::vec3 start;
-    const SplitRequest r = bisection(set.requests[k], start);
+    const SplitRequest r = bisection(set.requests[k], propagate, start);
     if (!split_keeps_junction_order(s_, r, start) || !choice.add(s_, r, o_.max_triangles, budget_reached_)) continue;
     choice.start.push_back(start);
   }
@@ -660,15 +671,30 @@ void Refiner::locate_new_rim_vertices() {
 // raise E a little (ψ at a sample is not the interpolation of its corners'), so the step must
 // bring E to at most `e_before`, the energy the iteration started at; when no step does, the
 // iteration's splits and flips are undone and S stays as it was. The step itself must lower E
-// from where the splits left it, as any descent step.
+// from where the splits left it, as any descent step. The splits are graded first (the
+// longest-edge paths of Refiner::bisection), and some of them fall away from the samples, where
+// the step gains nothing to pay for them; when it cannot, the iteration is made again with each
+// split on its sample's own element (as the paper splits), and only when that is undone too does
+// S stay as it was.
 IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
+  if (o_.rim_motion) reembed_rim();
+  bool undone = false;
+  IterationStats st = attempt(it, e_before, true, undone);
+  if (undone) {
+    const double seconds = st.seconds;
+    st = attempt(it, e_before, false, undone);
+    st.seconds += seconds;
+  }
+  return st;
+}
+
+IterationStats Refiner::attempt(std::uint32_t it, double e_before, bool graded, bool& undone) {
   IterationStats st;
   const auto t0 = Clock::now();
-  if (o_.rim_motion) reembed_rim();
   const FractureSurface s_before = s_;
   const std::vector<glm::vec4> samples_before = samples_, velocity_before = velocity_;
   const std::vector<glm::vec3> moves_before = last_move_;
-  st.splits = refine_step(it);
+  st.splits = refine_step(it, graded);
   locate_new_rim_vertices();
   sample_new_vertices();
   st.phases.splits = seconds_since(t0);
@@ -701,6 +727,7 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
     tree_.parents.resize(s_.positions.size()), tree_.weights.resize(s_.positions.size());
     clearance_.resize(s_.positions.size());
     rim_.at.resize(s_.positions.size()), rim_.on_b.resize(s_.positions.size());
+    undone = st.splits + st.flips > 0;
     st.splits = st.flips = 0;
     st.energy = e_before;  // S is the one e_before was measured on
   }
@@ -747,7 +774,11 @@ RefineResult Refiner::run(const RefineProgress& progress) {
       result.stop = RefineResult::Stop::kTriangleBudget;
       break;
     }
-    if (double(st.splits) <= kSplitTail * double(s_.faces.size()) && decrease < o_.tolerance) {
+    // Converged when the surface stops lowering E (paper 4.4: "when the surface change in one
+    // iteration is sufficiently small"), however many samples still ask for splits: past that
+    // point they came from vertices the collisions or the step's backtracking held back, and
+    // iterations that only split (3x the time on the wall) left E and the weak fraction as they were.
+    if (decrease < o_.tolerance) {
       result.stop = RefineResult::Stop::kConverged;
       break;
     }
