@@ -28,6 +28,8 @@ namespace {
 constexpr double kDefaultStep = 0.004;
 constexpr int kBacktracks = 6;
 constexpr int kInsertBacktracks = 10;
+// Converged after this many iterations in a row that lower E by less than the tolerance.
+constexpr int kCalmIterations = 2;
 constexpr double kConformTolerance = 2e-4;  // of the diagonal
 constexpr int kConformPasses = 8;
 // Passes of split_rim_chords after the loop (a pass splits each face at most once).
@@ -764,6 +766,7 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   evaluate();
   result.initial_energy = energy();
   double e = result.initial_energy;
+  int calm = 0;  // iterations in a row that lowered E by less than the tolerance
   for (int it = 0; it < o_.max_iterations; ++it) {
     IterationStats st = iterate(std::uint32_t(it), e);
     const double decrease = e > 0.0 ? (e - st.energy) / e : 0.0;
@@ -777,8 +780,10 @@ RefineResult Refiner::run(const RefineProgress& progress) {
     // Converged when the surface stops lowering E (paper 4.4: "when the surface change in one
     // iteration is sufficiently small"), however many samples still ask for splits: past that
     // point they came from vertices the collisions or the step's backtracking held back, and
-    // iterations that only split (3x the time on the wall) left E and the weak fraction as they were.
-    if (decrease < o_.tolerance) {
+    // iterations that only split (3x the time on the wall) left E and the weak fraction as they
+    // were. E falls in bursts, so one calm iteration is not enough.
+    calm = decrease < o_.tolerance ? calm + 1 : 0;
+    if (calm >= kCalmIterations) {
       result.stop = RefineResult::Stop::kConverged;
       break;
     }

@@ -26,7 +26,7 @@ struct RefineOptions {
   /// nodes) a vertex is driven step·scale per iteration; 0 = the default (refine.cpp). The step is
   /// semi-implicit (flow/implicit_step.hpp), so it does not shrink with the triangles.
   double step = 0.0;
-  /// Converged: E decreased by less than this fraction in an iteration.
+  /// Converged: E decreased by less than this fraction in each of two iterations in a row.
   double tolerance = 5e-4;
   int max_iterations = 200;               ///< a safety limit
   std::size_t max_triangles = 2000000;    ///< a safety limit: stop once a split would exceed it

@@ -39,7 +39,7 @@ constexpr SceneText kScenes[] = {
     {"wall", "collapsing brick wall",
      "The paper's collapsing wall: a wrecking ball knocks pieces out of a brick wall, refined in a 150x50x10 brick "
      "field (paper: 204 -> 208K triangles).",
-     "brick", {150, 50, 10}, 6e-8, 5e-5, 3e-5},
+     "brick", {150, 50, 10}, 6e-8, 5e-5, 1e-4},
     {"clay", "twisted plastic clay",
      "The paper's plastic clay: large twisting, plastic deformation before it tears, refined in a 32x64x64 fBm field "
      "(paper: 510 -> 40K triangles).",
