@@ -107,10 +107,12 @@ Trace trace_on_exterior(const ExteriorMesh& m, const Location& p, const Location
                         const glm::dvec3& first_plane = glm::dvec3(0.0));
 
 /// Walks from p to q across B along the curve where B meets the plane through p and q with
-/// normal `plane_normal` only (trace_on_exterior's walk, no other plane).
+/// normal `plane_normal` only (trace_on_exterior's walk, no other plane). The walk leaves p by
+/// the way that heads straightest for q (`branch` 0), or by the next one (`branch` 1: where the
+/// curve passes p, the other way along it, which reaches q round the other side of a closed curve).
 /// \throw RunError with the reason when that walk does not reach q, or the plane is degenerate.
 Trace trace_in_plane(const ExteriorMesh& m, const Location& p, const Location& q, double plane_tolerance,
-                     const glm::dvec3& plane_normal);
+                     const glm::dvec3& plane_normal, int branch = 0);
 
 /// Whether the triangle `corners` meets B other than at its own rim points (the contact rule of
 /// refine/exterior_contact.hpp, exact): a B triangle that holds none of `rim` must not meet it

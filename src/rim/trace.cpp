@@ -20,8 +20,9 @@ struct Candidate {
 // near-zero distances are zero, so a curve grazing a vertex runs through it.
 class Walker {
  public:
-  Walker(const ExteriorMesh& m, const Location& p, const Location& q, const glm::dvec3& plane_normal, double tol)
-      : m_(m), p_(p), q_(q), normal_(plane_normal), tol_(tol) {
+  Walker(const ExteriorMesh& m, const Location& p, const Location& q, const glm::dvec3& plane_normal, double tol,
+         int branch = 0)
+      : m_(m), p_(p), q_(q), normal_(plane_normal), tol_(tol), branch_(branch) {
     length_ = glm::length(q.point - p.point);
     direction_ = (q.point - p.point) / length_;
     if (p.kind == Location::kVertex) side_[p.id] = 0.0;
@@ -43,19 +44,7 @@ class Walker {
           return true;
         }
       Candidate best;
-      double best_score = -2.0;
-      const glm::dvec3 toward = q_.point - cur.point;
-      for (std::uint32_t f : faces) {
-        candidates_.clear();
-        exits(f, cur);
-        for (const Candidate& c : candidates_) {
-          if (visited.count(key(c.loc)) || !in_corridor(c.loc.point)) continue;
-          const glm::dvec3 d = c.loc.point - cur.point;
-          const double len = glm::length(d) * glm::length(toward);
-          const double score = len > 0.0 ? glm::dot(d, toward) / len : -1.0;
-          if (score > best_score) best_score = score, best = c;
-        }
-      }
+      const double best_score = choose(cur, faces, visited, step == 0 ? branch_ : 0, best);
       if (best_score < -1.5) {
         why = "the walk found no way forward at " + format_point(cur.point) + " after " + std::to_string(step) + " steps";
         return false;
@@ -69,6 +58,36 @@ class Walker {
   }
 
  private:
+  // The way forward from `cur`: of the exits of its faces not visited and in the corridor, ranked
+  // by how straight they head for q (ties: the first found), the one of rank `rank` (0: the
+  // straightest; 1: at p, the other way along the curve). Returns its score, -2 when none.
+  double choose(const Location& cur, const std::vector<std::uint32_t>& faces,
+                const std::set<std::pair<int, std::uint32_t>>& visited, int rank, Candidate& best) {
+    std::vector<std::pair<double, Candidate>> ranked;
+    std::set<std::pair<int, std::uint32_t>> seen;
+    const glm::dvec3 toward = q_.point - cur.point;
+    for (std::uint32_t f : faces) {
+      candidates_.clear();
+      exits(f, cur);
+      for (const Candidate& c : candidates_) {
+        if (visited.count(key(c.loc)) || closed_.count(key(c.loc)) || !in_corridor(c.loc.point)) continue;
+        if (c.loc.kind != Location::kFace && !seen.insert(key(c.loc)).second) continue;
+        const glm::dvec3 d = c.loc.point - cur.point;
+        const double len = glm::length(d) * glm::length(toward);
+        ranked.push_back({len > 0.0 ? glm::dot(d, toward) / len : -1.0, c});
+      }
+    }
+    std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    if (std::size_t(rank) >= ranked.size()) return -2.0;
+    // Leaving p the other way: the ways not taken are closed, so the walk does not turn back
+    // through p's triangle.
+    if (rank > 0)
+      for (std::size_t i = 0; i < ranked.size(); ++i)
+        if (i != std::size_t(rank)) mark(closed_, ranked[i].second.loc);
+    best = ranked[std::size_t(rank)].second;
+    return ranked[std::size_t(rank)].first;
+  }
+
   static std::pair<int, std::uint32_t> key(const Location& loc) { return {int(loc.kind), loc.id}; }
   static void mark(std::set<std::pair<int, std::uint32_t>>& visited, const Location& loc) {
     if (loc.kind != Location::kFace) visited.insert(key(loc));
@@ -110,9 +129,11 @@ class Walker {
   Location p_, q_;
   glm::dvec3 normal_;
   double tol_;
+  int branch_ = 0;
   double length_ = 0.0;
   glm::dvec3 direction_{0.0};
   std::map<std::uint32_t, double> side_;
+  std::set<std::pair<int, std::uint32_t>> closed_;  // exits at p not taken (branch > 0)
   std::vector<Candidate> candidates_;
 };
 
@@ -142,7 +163,7 @@ Trace trace_on_exterior(const ExteriorMesh& m, const Location& p, const Location
 }
 
 Trace trace_in_plane(const ExteriorMesh& m, const Location& p, const Location& q, double plane_tolerance,
-                     const glm::dvec3& plane_normal) {
+                     const glm::dvec3& plane_normal, int branch) {
   const glm::dvec3 d = q.point - p.point;
   if (same_location(p, q) || glm::length(d) == 0.0) throw RunError("its ends lie on the same point of the exterior");
   const double len = glm::length(plane_normal);
@@ -151,7 +172,7 @@ Trace trace_in_plane(const ExteriorMesh& m, const Location& p, const Location& q
     throw RunError("the plane does not hold it");
   Trace trace;
   std::string why;
-  Walker walker(m, p, q, plane_normal / len, plane_tolerance);
+  Walker walker(m, p, q, plane_normal / len, plane_tolerance, branch);
   if (!walker.run(trace, why)) throw RunError(why);
   return trace;
 }
