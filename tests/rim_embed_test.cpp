@@ -130,4 +130,32 @@ TEST(RimEmbed, FanGrazingAConcaveNotchIsTrimmedToB) {
   expect_inside(s, m, 16);
 }
 
+// A sheet at z = 1/2 that covers only the upper part of the unit box's section (y above about
+// 1/2): its lower rim edge p-q runs straight across B's inside, from the wall x = 0 to the wall
+// x = 1. Its face's plane meets B in the section's square; from p, the way along it that heads
+// straightest for q is up the wall, round the rest of the sheet (its faces would fold over the
+// sheet); the way that embeds S is the other one, down and round the lower part, which the face
+// then covers (flat_split's second way). Before it, the face got the unchecked fan of traces at
+// right angles to B, which also ran round the sheet: "fracture surface vertices 5 and 10 both
+// lie on exterior vertex 17".
+TEST(RimEmbed, ARimEdgeAcrossBIsTracedRoundTheSideAwayFromTheSheet) {
+  const rim::ExteriorMesh m = unit_box(4);
+  std::vector<glm::vec4> positions = {{0.0f, 0.5f, 0.5f, 1.0f}, {1.0f, 0.6f, 0.5f, 1.0f}, {1.0f, 1.0f, 0.5f, 1.0f},
+                                      {0.0f, 1.0f, 0.5f, 1.0f}, {0.5f, 0.8f, 0.5f, 1.0f}};
+  const std::vector<glm::uvec4> faces = {{0, 1, 4, 0}, {1, 2, 4, 0}, {2, 3, 4, 0}, {3, 0, 4, 0}};
+  FractureSurface s = make_fracture_surface(positions, faces, std::vector<glm::ivec2>(4, glm::ivec2(1, 0)), 2);
+  const rim::Embedding e = rim::embed_rim(s, m);
+  expect_embedded(s, m, e.rim);
+  expect_inside(s, m);
+  // The sheet now spans the whole section: its rim reaches the box's corners (0, 0) and (1, 0).
+  EXPECT_EQ(e.rim.at[rim_vertex_at(s, e.rim, {0.0, 0.0, 0.5})].kind, Location::kVertex);
+  EXPECT_EQ(e.rim.at[rim_vertex_at(s, e.rim, {1.0, 0.0, 0.5})].kind, Location::kVertex);
+  double area = 0.0;
+  for (const glm::uvec4& f : s.faces) {
+    const glm::dvec3 a(glm::vec3(s.positions[f.x])), b(glm::vec3(s.positions[f.y])), c(glm::vec3(s.positions[f.z]));
+    area += 0.5 * glm::length(glm::cross(b - a, c - a));
+  }
+  EXPECT_NEAR(area, 1.0, 1e-5);  // the unit square, each part once
+}
+
 }  // namespace fracref

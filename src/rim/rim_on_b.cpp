@@ -36,25 +36,45 @@ class Embedder {
     locate_rim();
     // Chords whose faces have a checked split are split first; the others are left to the trim,
     // which cuts S to B (a chord outside B, over a concave part of it, with its face), and what
-    // it leaves of them, with the edges of the flaps it dropped, is split next. A face with no
-    // checked split there is split as a fan all the same, as the rim was embedded before (the
-    // trim and the pieces then judge it): S is trimmed once more, and the flaps that drops split.
-    split_unembedded(false);
+    // it leaves of them, with the edges of the flaps it dropped, is split next: by checked splits,
+    // with the flat splits the other way round and the bisections too, round after round
+    // (split_checked). A face with no checked split left there
+    // is split as a fan all the same, as the rim was embedded before (the trim and the pieces
+    // then judge it): S is trimmed once more, and the flaps that drops split.
+    split_unembedded(Fallback::kNone);
     out_.trim = trim_to_exterior(s_, m_, out_.rim, out_.added);
-    if (!find_unembedded_rim(s_, m_, out_.rim).empty() && split_unembedded(true)) {
+    if (split_checked() && split_unembedded(Fallback::kUnchecked).unchecked) {
       add(out_.trim, trim_to_exterior(s_, m_, out_.rim, out_.added));
-      if (!find_unembedded_rim(s_, m_, out_.rim).empty()) split_unembedded(true);
+      if (split_checked()) split_unembedded(Fallback::kUnchecked);
     }
     return std::move(out_);
   }
 
  private:
+  // What a face with no checked split of its traces gets (split_unembedded): nothing, more
+  // checked splits (choose_split's `more`), or an unchecked fan.
+  enum class Fallback { kNone, kMore, kUnchecked };
+  struct Pass {
+    std::uint32_t split = 0;  // faces split
+    bool unchecked = false;   // one of them as an unchecked fan
+  };
+
+  // Rounds of checked splits, more of them (Fallback::kMore), while a chord is left and a round
+  // splits a face, at most kRounds: a bisection leaves two shorter chords to the next round.
+  // Returns whether a chord is left.
+  bool split_checked() {
+    static constexpr int kRounds = 24;
+    for (int round = 0; round < kRounds; ++round)
+      if (find_unembedded_rim(s_, m_, out_.rim).empty() || split_unembedded(Fallback::kMore).split == 0) break;
+    return !find_unembedded_rim(s_, m_, out_.rim).empty();
+  }
+
   // Every rim edge whose ends share no triangle of B (a chord) split where its trace crosses B's
   // edges, one face of S at a time (choose_split), each face's new triangles checked against S as
   // it stands with the faces split before it, and against B. The new vertices are numbered by rim
-  // edge, then the centroids by face. A face with no checked split is left as it is, or with
-  // `unchecked` split as a fan all the same (fan_split). Returns whether a split was unchecked.
-  bool split_unembedded(bool unchecked) {
+  // edge, then the centroids by face. A face with no checked split is left as it is, or gets the
+  // fallback: more checked splits (the other way round, a bisection), or an unchecked fan.
+  Pass split_unembedded(Fallback fallback) {
     std::vector<std::pair<std::uint32_t, int>> order;  // (face, side) per untraced rim edge, in edge order
     std::map<std::uint32_t, std::array<bool, 3>> untraced;  // face -> its sides to trace
     for (std::uint32_t e = 0; e < s_.edges.size(); ++e) {
@@ -65,17 +85,17 @@ class Embedder {
       untraced[f][std::size_t(k)] = true;
       order.push_back({f, k});
     }
-    if (untraced.empty()) return false;
+    Pass pass;
+    if (untraced.empty()) return pass;
     std::vector<glm::dvec3> x;
     std::vector<TriangleIds> faces;
     for (std::uint32_t v = 0; v < s_.positions.size(); ++v) x.push_back(point(v));
     for (const glm::uvec4& f : s_.faces) faces.push_back({f.x, f.y, f.z});
     FaceGuard guard(std::move(x), std::move(faces));
     std::map<std::uint32_t, Split> chosen;
-    bool made_unchecked = false;
     for (const auto& [f, sides] : untraced) {
-      std::optional<Split> split = choose_split(f, sides, guard);
-      if (!split && unchecked) split = fan_split(s_.faces[f], sides), made_unchecked = true;
+      std::optional<Split> split = choose_split(f, sides, guard, fallback == Fallback::kMore);
+      if (!split && fallback == Fallback::kUnchecked) split = fan_split(s_.faces[f], sides), pass.unchecked = true;
       if (split) pend_claims(*split), chosen.emplace(f, std::move(*split));
     }
     std::map<std::array<std::uint32_t, 3>, std::uint32_t> ids;  // (face, side, point) -> S vertex
@@ -88,7 +108,8 @@ class Embedder {
     }
     for (const auto& [f, split] : chosen) commit(f, split, ids);
     rebuild_adjacency(s_);
-    return made_unchecked;
+    pass.split = std::uint32_t(chosen.size());
+    return pass;
   }
 
   int side_of(std::uint32_t f, glm::uvec2 edge) const {
@@ -206,14 +227,14 @@ class Embedder {
 
   // The traces in the face's own plane (trace_in_plane), so the polygon is flat, triangulated in
   // that plane (triangulate_polygon); nothing when a walk in that plane does not reach its end.
-  std::optional<Split> flat_split(const glm::uvec4& face, const std::array<bool, 3>& untraced) const {
+  std::optional<Split> flat_split(const glm::uvec4& face, const std::array<bool, 3>& untraced, int branch = 0) const {
     const glm::dvec3 normal = face_normal(face);
     Split split;
     for (int k = 0; k < 3; ++k) {
       if (!untraced[std::size_t(k)]) continue;
       const std::uint32_t p = face[k], q = face[(k + 1) % 3];
       try {
-        split.sides[std::size_t(k)] = traced_side(p, q, trace_in_plane(m_, out_.rim.at[p], out_.rim.at[q], o_.plane_epsilon * m_.diagonal, normal));
+        split.sides[std::size_t(k)] = traced_side(p, q, trace_in_plane(m_, out_.rim.at[p], out_.rim.at[q], o_.plane_epsilon * m_.diagonal, normal, branch));
       } catch (const RunError&) {
         return std::nullopt;
       }
@@ -256,26 +277,59 @@ class Embedder {
 
   // Face f split along the traces of its untraced rim sides: the fan of the traces at right angles
   // to B (fan_split) where it keeps S embedded (acceptable), else the flat split in the face's
-  // plane (flat_split) where that does, and the guard learns it; else nothing (a side that cannot
-  // be traced at right angles to B leaves no fan).
-  std::optional<Split> choose_split(std::uint32_t f, const std::array<bool, 3>& untraced, FaceGuard& guard) const {
+  // plane (flat_split) where that does; with `more`, else the flat split whose traces leave their
+  // start the other way (round the other side of the face's section of B), else the bisection of
+  // its first untraced side (bisect_split). The guard learns the split chosen; else nothing (a
+  // side that cannot be traced at right angles to B leaves no fan).
+  std::optional<Split> choose_split(std::uint32_t f, const std::array<bool, 3>& untraced, FaceGuard& guard,
+                                    bool more) const {
     const glm::uvec4 face = s_.faces[f];
-    std::vector<TriangleIds> made;
     std::optional<Split> fan;
     try {
       fan = fan_split(face, untraced);
     } catch (const RunError&) {  // a side that cannot be traced so: made unchecked, it throws again
     }
-    if (fan && acceptable(*fan, face, f, guard, made)) {
-      guard.accept(made, {f});
-      return fan;
-    }
+    if (checked(fan, face, f, guard)) return fan;
     std::optional<Split> flat = flat_split(face, untraced);
-    if (flat && acceptable(*flat, face, f, guard, made)) {
-      guard.accept(made, {f});
-      return flat;
-    }
+    if (checked(flat, face, f, guard)) return flat;
+    if (!more) return std::nullopt;
+    if (checked(flat = flat_split(face, untraced, 1), face, f, guard)) return flat;
+    std::optional<Split> half = bisect_split(face, untraced);
+    if (checked(half, face, f, guard)) return half;
     return std::nullopt;
+  }
+
+  // Whether there is a split and it is acceptable; then the guard learns it.
+  bool checked(const std::optional<Split>& split, const glm::uvec4& face, std::uint32_t f, FaceGuard& guard) const {
+    std::vector<TriangleIds> made;
+    if (!split || !acceptable(*split, face, f, guard, made)) return false;
+    guard.accept(made, {f});
+    return true;
+  }
+
+  // The face's first untraced side p-q split at the point of B closest to the chord's midpoint
+  // (recorded at the midpoint), the face a fan from its third corner r: (p, m, r), (m, q, r). Its
+  // two halves are chords, or rim edges in one triangle of B, for the next round. Nothing when
+  // that point is p's or q's location.
+  std::optional<Split> bisect_split(const glm::uvec4& face, const std::array<bool, 3>& untraced) const {
+    int k = 0;
+    while (k < 3 && !untraced[std::size_t(k)]) ++k;
+    if (k == 3) return std::nullopt;
+    const std::uint32_t p = face[k], q = face[(k + 1) % 3];
+    double distance = 0.0;
+    const Location m = locate_on_exterior(m_, 0.5 * (point(p) + point(q)), o_.location_epsilon, &distance);
+    if (same_location(m, out_.rim.at[p]) || same_location(m, out_.rim.at[q])) return std::nullopt;
+    Split split;
+    split.sides[std::size_t(k)].points.push_back(m);
+    split.sides[std::size_t(k)].along.push_back(0.5);
+    add_polygon(split, face);
+    // polygon: corners in order with m after corner k; r is the corner before k (cyclically)
+    const std::uint32_t n = std::uint32_t(split.points.size());  // 4
+    std::uint32_t r = 0;
+    while (!(split.source[r].first == -1 && split.source[r].second == face[(k + 2) % 3])) ++r;
+    for (std::uint32_t i = 0; i < n; ++i)
+      if (i != r && (i + 1) % n != r) split.triangles.push_back({i, (i + 1) % n, r});
+    return split;
   }
 
   void pend_claims(const Split& split) {

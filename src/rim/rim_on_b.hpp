@@ -69,8 +69,12 @@ struct Embedding {
 /// A face with neither (a chord over a concave part of B, outside it, with its face crossing B)
 /// is left to the trim: S is cut along S ∩ B and the parts outside B dropped (trim_to_exterior),
 /// and what is left of the chords, with the edges of the flaps the trim dropped, is split the
-/// same way; a face there with no checked split becomes the fan all the same, and S is trimmed
-/// once more. New vertices and faces are appended (faces keep their pieces), the adjacency
+/// same way, in rounds, with two more checked splits:
+///  - the flat split whose traces leave their start the other way along the face's section of
+///    B (a chord straight across B's inside, whose straightest trace runs round S's side);
+///  - the bisection of one chord at the point of B closest to its midpoint, the face halved
+///    there (its halves are split in the next round);
+/// a face there with no checked split becomes the fan all the same, and S is trimmed once more. New vertices and faces are appended (faces keep their pieces), the adjacency
 /// rebuilt.
 /// \pre s's adjacency current.
 /// \throw RunError naming the vertex or edge: a rim vertex farther than snap_tolerance from B,
