@@ -1,11 +1,13 @@
 // S's rim embedded in B (issue 29), on hand-made cases that broke the old pieces stage: a rim
 // edge crossing several B triangles is split where it crosses their edges; rim vertices on a B
 // edge or a B vertex are located there exactly; two rim edges meet inside one B triangle; a fan
-// that grazes a concave notch of B is trimmed to B. After each: S valid, every rim edge inside
-// one triangle of B, every rim vertex at its location.
+// that grazes a concave notch of B is trimmed to B; a rim edge across B's inside is traced round
+// the side away from the sheet; a chord whose traces meet another face is bisected (issue 30).
+// After each: S valid, every rim edge inside one triangle of B, every rim vertex at its location.
 #include <gtest/gtest.h>
 
 #include "geom/bvh.hpp"
+#include "geom/intersect.hpp"
 #include "pieces_test_support.hpp"
 #include "rim/rim_on_b.hpp"
 #include "surface/fracture_surface.hpp"
@@ -156,6 +158,33 @@ TEST(RimEmbed, ARimEdgeAcrossBIsTracedRoundTheSideAwayFromTheSheet) {
     area += 0.5 * glm::length(glm::cross(b - a, c - a));
   }
   EXPECT_NEAR(area, 1.0, 1e-5);  // the unit square, each part once
+}
+
+// A sheet across the unit box's edge x = z = 0 (a fan around c, its rim on the wall x = 0 and the
+// floor) and a small triangle G, a face of S of its own, that cuts the corner where the chord
+// p-q's traces pass the edge (at right angles to B, and in the face's plane: c is in the plane of
+// p, q and (0, 0.49, 0)): each split of face (c, p, q) along them meets G, and so does none
+// better the other way round. Bisected at the point of B nearest the chord's middle (on the
+// floor), the halves' traces pass the edge near y = 0.43, clear of G. Before the bisection, the
+// face became the unchecked fan through G, and S met itself.
+TEST(RimEmbed, AChordWhoseTracesMeetAnotherFaceIsBisected) {
+  const rim::ExteriorMesh m = unit_box(4);
+  std::vector<glm::vec4> positions = {{0.3f, 0.424f, 0.45f, 1.0f},  // c
+                                      {0.0f, 0.3f, 0.5f, 1.0f},     // p
+                                      {0.6f, 0.7f, 0.0f, 1.0f},     // q
+                                      {0.7f, 0.95f, 0.0f, 1.0f},    {0.0f, 0.9f, 0.6f, 1.0f},
+                                      {0.0f, 0.47f, 0.04f, 1.0f},   {0.04f, 0.49f, 0.0f, 1.0f},  // G
+                                      {0.0f, 0.51f, 0.04f, 1.0f}};
+  const std::vector<glm::uvec4> faces = {{0, 1, 2, 0}, {0, 2, 3, 0}, {0, 3, 4, 0}, {0, 4, 1, 0}, {5, 6, 7, 0}};
+  FractureSurface s = make_fracture_surface(positions, faces, std::vector<glm::ivec2>(5, glm::ivec2(1, 0)), 2);
+  const rim::Embedding e = rim::embed_rim(s, m);
+  expect_embedded(s, m, e.rim);
+  expect_inside(s, m);
+  std::vector<glm::dvec3> x;
+  std::vector<TriangleIds> tris;
+  for (const glm::vec4& p : s.positions) x.push_back(glm::dvec3(glm::vec3(p)));
+  for (const glm::uvec4& f : s.faces) tris.push_back({f.x, f.y, f.z});
+  EXPECT_TRUE(find_self_intersections(x, tris, 4).empty());
 }
 
 }  // namespace fracref
