@@ -74,8 +74,8 @@ struct Embedding {
 ///    B (a chord straight across B's inside, whose straightest trace runs round S's side);
 ///  - the bisection of one chord at the point of B closest to its midpoint, the face halved
 ///    there (its halves are split in the next round);
-/// a face there with no checked split becomes the fan all the same, and S is trimmed once more. New vertices and faces are appended (faces keep their pieces), the adjacency
-/// rebuilt.
+/// a face there with no checked split becomes the fan all the same, and S is trimmed once more.
+/// New vertices and faces are appended (faces keep their pieces), the adjacency rebuilt.
 /// \pre s's adjacency current.
 /// \throw RunError naming the vertex or edge: a rim vertex farther than snap_tolerance from B,
 ///        two rim vertices on one B vertex, a rim edge that cannot be traced, a trace through a
