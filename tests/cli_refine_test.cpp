@@ -198,6 +198,17 @@ TEST(CliRefine, DemoWallSeedFourBuildsValidPieces) {
   EXPECT_NE(slurp(t.path / "wall" / "report.json").find("\"pieces_ok\": true"), std::string::npos);
 }
 
+TEST(CliRefine, DemoClaySeedSixBuildsValidPieces) {
+  // Issue 28: with longest-edge paths this seed split an edge of faces that touch another sheet
+  // (3e-8 apart, where sheets meet at a junction on B) in its third iteration, and the new
+  // vertex's rounding made the sheets cross: "invalid pieces: ... intersecting faces".
+  TempDir t;
+  auto r = run("demo clay -o " + (t.path / "clay").string() +
+               " --seed 6 --backend cpu --stop-after pieces -q --set refine.max_iterations=3");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(slurp(t.path / "clay" / "report.json").find("\"pieces_ok\": true"), std::string::npos);
+}
+
 TEST(CliRefine, SetOverridesSceneKeysAndTheDemoInputRecordsThem) {
   TempDir t;
   const fs::path out = t.path / "branch";

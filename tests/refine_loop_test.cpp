@@ -544,3 +544,19 @@ TEST(RefineLoop, RefinementIsGradedAroundARefinedPatch) {
   }
   EXPECT_LT(thin, 0.005 * area) << s.faces.size() << " faces";
 }
+
+// A split moves its faces by the rounding of its new vertex (or by a position off the edge): where
+// another sheet touches S, that is enough to cross it, and splits_that_cross flags the split.
+TEST(RefineLoop, SplitsThatWouldCrossATouchingSheetAreFlagged) {
+  const std::vector<glm::vec4> p = {{0, 0, 0, 1},        {1, 0, 0, 1},         {1, 1, 0, 1},      {0, 1, 0, 1},
+                                    {0.5f, 0.4f, 1e-7f, 1}, {0.5f, 0.6f, 1e-7f, 1}, {0.5f, 0.5f, 1, 1}};
+  const FractureSurface s = make_fracture_surface(p, {{0, 1, 2, 0}, {0, 2, 3, 0}, {4, 5, 6, 0}},
+                                                  {{1, 0}, {1, 0}, {2, 1}}, 3);
+  ASSERT_EQ(validate(s), "");
+  const std::uint32_t diagonal = find_edge(s, 0, 2);
+  ASSERT_NE(diagonal, kNoEdge);
+  const std::vector<SplitRequest> split = {{SplitRequest::kEdge, diagonal, glm::vec3(0.5f, 0.5f, 0.0f)}};
+  EXPECT_EQ(splits_that_cross(s, split, {glm::vec3(0.5f, 0.5f, 0.0f)}), std::vector<char>{0});
+  EXPECT_EQ(splits_that_cross(s, split, {glm::vec3(0.5f, 0.5f, 1e-6f)}), std::vector<char>{1});
+  EXPECT_EQ(splits_that_cross(s, split, {glm::vec3(0.5f, 0.5f, -1e-6f)}), std::vector<char>{0});
+}

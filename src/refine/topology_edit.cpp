@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 
+#include "geom/intersect.hpp"
 #include "util/error.hpp"
 
 namespace fracref {
@@ -167,6 +168,48 @@ bool flip_edge(FractureSurface& s, std::uint32_t edge) {
   s.faces[ff.x] = glm::uvec4(cd.x, e.x, cd.y, 0u);
   s.faces[ff.y] = glm::uvec4(cd.y, e.y, cd.x, 0u);
   return true;
+}
+
+// The faces the requests make, queried against the faces of S they leave as they are: a face they
+// replace would meet its own children.
+std::vector<char> splits_that_cross(const FractureSurface& s, const std::vector<SplitRequest>& requests,
+                                    const std::vector<glm::vec3>& positions) {
+  const auto base = static_cast<std::uint32_t>(s.positions.size());
+  std::vector<glm::dvec3> p(base + requests.size());
+  for (std::uint32_t v = 0; v < base; ++v) p[v] = glm::dvec3(glm::vec3(s.positions[v]));
+  std::vector<TriangleIds> tris;
+  std::vector<std::size_t> owner;
+  std::vector<char> replaced(s.faces.size(), 0);
+  for (std::size_t k = 0; k < requests.size(); ++k) {
+    const SplitRequest& r = requests[k];
+    const auto m = base + static_cast<std::uint32_t>(k);
+    p[m] = glm::dvec3(positions[k]);
+    auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) { tris.push_back({a, b, c}), owner.push_back(k); };
+    if (r.kind == SplitRequest::kFace) {
+      const glm::uvec4 f = s.faces[r.element];
+      replaced[r.element] = 1;
+      add(f.x, f.y, m), add(f.y, f.z, m), add(f.z, f.x, m);
+      continue;
+    }
+    const glm::uvec2 e = s.edges[r.element];
+    for (std::uint32_t i = s.ef_offsets[r.element]; i < s.ef_offsets[r.element + 1]; ++i) {
+      const glm::uvec4 f = s.faces[s.ef_faces[i]];
+      const std::uint32_t z = f.x + f.y + f.z - e.x - e.y;
+      replaced[s.ef_faces[i]] = 1;
+      add(e.x, m, z), add(m, e.y, z);
+    }
+  }
+  std::vector<char> crossing(requests.size(), 0);
+  if (tris.empty()) return crossing;
+  SelfIntersectionOptions o;
+  o.query_faces = tris.size();
+  for (std::uint32_t f = 0; f < s.faces.size(); ++f)
+    if (!replaced[f]) tris.push_back({s.faces[f].x, s.faces[f].y, s.faces[f].z});
+  for (const auto& [i, j] : find_self_intersections(p, tris, o)) {
+    crossing[owner[i]] = 1;
+    if (j < o.query_faces) crossing[owner[j]] = 1;
+  }
+  return crossing;
 }
 
 }  // namespace fracref

@@ -59,6 +59,15 @@ std::size_t apply_splits(FractureSurface& s, RefinementTree& tree, const std::ve
 FractureSurface split_preview(const FractureSurface& s, const std::vector<SplitRequest>& requests,
                               const std::vector<glm::vec3>& positions, RefinementTree* parents = nullptr);
 
+/// Which of `requests` would make S cross itself, one flag per request (1: one of the faces it
+/// makes meets a face of S, or one another request makes, other than where the mesh connects
+/// them). A split keeps S's shape up to the rounding of its new vertex to float, which matters
+/// only where two sheets of S touch; and a position off the element (a boundary sample put onto
+/// the exterior) moves the faces around it. Exact (mesh_faces_intersect).
+/// \pre as split_preview.
+std::vector<char> splits_that_cross(const FractureSurface& s, const std::vector<SplitRequest>& requests,
+                                    const std::vector<glm::vec3>& positions);
+
 /// Flips the regular edge `edge` shared by faces (a, b, c) and (b, a, d) into (c, a, d), (d, b, c).
 /// Returns false, changing nothing, when the edge is special, its faces are wound inconsistently
 /// or separate different pieces, or the edge c–d already exists. Does NOT rebuild the adjacency:
