@@ -187,26 +187,33 @@ TEST(CliRefine, DemoWallRefinesIntoAValidSurface) {
   EXPECT_TRUE(fs::exists(t.path / "wall" / "input" / "wall.json"));
 }
 
+namespace {
+
+// Runs `demo NAME --seed SEED` through the pieces stage with `extra` options and expects the
+// pieces to pass their checks.
+void expect_demo_pieces_ok(const std::string& name, int seed, const std::string& extra) {
+  TempDir t;
+  const fs::path out = t.path / name;
+  auto r = run("demo " + name + " -o " + out.string() + " --seed " + std::to_string(seed) +
+               " --backend cpu --stop-after pieces -q " + extra);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(slurp(out / "report.json").find("\"pieces_ok\": true"), std::string::npos);
+}
+
+}  // namespace
+
 TEST(CliRefine, DemoWallSeedFourBuildsValidPieces) {
   // Issue 33: this seed once ended in "side component 1 holds pieces 0 and 7" (an internal error).
   // Capped at the wall's triangle count of that time (the demo now converges near 200K, which
   // took three and a half minutes under ASan here).
-  TempDir t;
-  auto r = run("demo wall -o " + (t.path / "wall").string() +
-               " --seed 4 --backend cpu --stop-after pieces -q --set refine.max_triangles=60000");
-  ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(slurp(t.path / "wall" / "report.json").find("\"pieces_ok\": true"), std::string::npos);
+  expect_demo_pieces_ok("wall", 4, "--set refine.max_triangles=60000");
 }
 
 TEST(CliRefine, DemoClaySeedSixBuildsValidPieces) {
   // Issue 28: with longest-edge paths this seed split an edge of faces that touch another sheet
   // (3e-8 apart, where sheets meet at a junction on B) in its third iteration, and the new
   // vertex's rounding made the sheets cross: "invalid pieces: ... intersecting faces".
-  TempDir t;
-  auto r = run("demo clay -o " + (t.path / "clay").string() +
-               " --seed 6 --backend cpu --stop-after pieces -q --set refine.max_iterations=3");
-  ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(slurp(t.path / "clay" / "report.json").find("\"pieces_ok\": true"), std::string::npos);
+  expect_demo_pieces_ok("clay", 6, "--set refine.max_iterations=3");
 }
 
 TEST(CliRefine, SetOverridesSceneKeysAndTheDemoInputRecordsThem) {
