@@ -76,8 +76,8 @@ class Refiner {
   // Containment splits: lengths in the scene's unit, nothing split below the sample spacing.
   TuckOptions tuck_options() const { return {.scale = o_.scale, .min_edge = o_.delta}; }
   bool flow_step(double ceiling, IterationStats& st);
-  std::size_t refine_step(std::uint32_t iteration, bool propagate);
-  SplitRequest bisection(const SplitRequest& r, bool propagate, glm::vec3& start) const;
+  std::size_t refine_step(std::uint32_t iteration, bool propagate, std::size_t& graded);
+  SplitRequest bisection(const SplitRequest& r, bool propagate, glm::vec3& start, bool& path_left) const;
   IterationStats iterate(std::uint32_t iteration, double e_before);
   IterationStats attempt(std::uint32_t iteration, double e_before, bool graded, bool& undone);
   struct Verdict {
@@ -91,6 +91,7 @@ class Refiner {
     std::vector<char> touched;
     std::vector<SplitRequest> chosen;
     std::vector<glm::vec3> start;
+    std::vector<char> graded;  // per chosen split: its longest-edge path left the sample's element
     std::size_t faces = 0;
     bool add(const FractureSurface& s, const SplitRequest& r, std::size_t max_faces, bool& over_budget);
   };
@@ -319,7 +320,7 @@ float element_offset(const ElementShape& e, const glm::vec3& d) {
 // mend, which the fold guard and the collisions then held still. Longest-edge bisection (Rivara
 // 1984) keeps every angle above a bound set by the coarse surface: the sample still says where
 // S needs triangles, the bisection only how they are cut.
-SplitRequest Refiner::bisection(const SplitRequest& r, bool propagate, glm::vec3& start) const {
+SplitRequest Refiner::bisection(const SplitRequest& r, bool propagate, glm::vec3& start, bool& path_left) const {
   auto length = [&](std::uint32_t e) {
     return glm::distance(glm::vec3(s_.positions[s_.edges[e].x]), glm::vec3(s_.positions[s_.edges[e].y]));
   };
@@ -343,10 +344,12 @@ SplitRequest Refiner::bisection(const SplitRequest& r, bool propagate, glm::vec3
   // has a longer edge, that edge goes first. Splitting an edge that is not its neighbour's longest
   // cut the neighbour into a needle, and a large face beside a refined patch became a fan of them.
   // Each step takes a strictly longer edge, so the path ends.
+  const std::uint32_t own = edge;
   for (std::uint32_t from = kNoEdge; propagate && from != edge && s_.edge_special[edge] == kEdgeRegular;) {
     from = edge;
     consider_faces_around(edge);
   }
+  path_left = edge != own;
   start = midpoint(edge);
   return {SplitRequest::kEdge, edge, glm::vec3(0.5f, 0.5f, 0.0f)};
 }
@@ -355,11 +358,13 @@ SplitRequest Refiner::bisection(const SplitRequest& r, bool propagate, glm::vec3
 // far away from the triangle after one iteration, we add it as a new vertex") asks for a split
 // there, when moving it where the step would take it lowers the energy; the split is the
 // longest-edge bisection of its element (Refiner::bisection), made unless it would reorder the
-// sheets around a junction edge. The tree records the new vertex's weights on the split edge
-// (its position at creation). A split on S leaves the shape as it was, so no collision test is
-// needed here: the flow step that follows moves the new vertices with all the others, under the
-// same collision constraints. (A rim edge lies in one triangle of B, so its midpoint is on B.)
-std::size_t Refiner::refine_step(std::uint32_t iteration, bool propagate) {
+// sheets around a junction edge or make S cross itself (drop_crossing_splits). The tree records
+// the new vertex's weights on the split edge (its position at creation). A split on S leaves the
+// shape as it was up to that rounding, so no collision test is needed here: the flow step that
+// follows moves the new vertices with all the others, under the same collision constraints. (A
+// rim edge lies in one triangle of B, so its midpoint is on B.) `graded` counts the splits whose
+// longest-edge path led away from their sample's element.
+std::size_t Refiner::refine_step(std::uint32_t iteration, bool propagate, std::size_t& graded) {
   const float scale = float(o_.scale);
   SampleSet set = draw_samples(s_, o_.seed, iteration, float(o_.delta) * scale, float(o_.rim_delta) * scale);
   std::vector<char> on_boundary(set.points.size(), 0);
@@ -387,11 +392,14 @@ std::size_t Refiner::refine_step(std::uint32_t iteration, bool propagate) {
   for (std::size_t k = 0; k < set.points.size() && !budget_reached_; ++k) {
     if (!verdicts[k].split) continue;
     glm::vec3 start;
-    const SplitRequest r = bisection(set.requests[k], propagate, start);
+    bool path_left = false;
+    const SplitRequest r = bisection(set.requests[k], propagate, start, path_left);
     if (!split_keeps_junction_order(s_, r, start) || !choice.add(s_, r, o_.max_triangles, budget_reached_)) continue;
     choice.start.push_back(start);
+    choice.graded.push_back(path_left);
   }
   drop_crossing_splits(choice);
+  graded = std::size_t(std::count(choice.graded.begin(), choice.graded.end(), char(1)));
   apply_splits(s_, tree_, choice.chosen, &choice.start);
   inherit_clearance(s_, tree_, clearance_);
   inherit_moves();
@@ -405,8 +413,9 @@ void Refiner::drop_crossing_splits(SplitChoice& choice) const {
   const std::vector<char> crossing = splits_that_cross(s_, choice.chosen, choice.start);
   std::size_t kept = 0;
   for (std::size_t k = 0; k < crossing.size(); ++k)
-    if (!crossing[k]) choice.chosen[kept] = choice.chosen[k], choice.start[kept++] = choice.start[k];
-  choice.chosen.resize(kept), choice.start.resize(kept);
+    if (!crossing[k])
+      choice.chosen[kept] = choice.chosen[k], choice.start[kept] = choice.start[k], choice.graded[kept++] = choice.graded[k];
+  choice.chosen.resize(kept), choice.start.resize(kept), choice.graded.resize(kept);
 }
 
 bool Refiner::SplitChoice::add(const FractureSurface& s, const SplitRequest& r, std::size_t max_faces, bool& over_budget) {
@@ -709,7 +718,8 @@ IterationStats Refiner::attempt(std::uint32_t it, double e_before, bool graded, 
   const FractureSurface s_before = s_;
   const std::vector<glm::vec4> samples_before = samples_, velocity_before = velocity_;
   const std::vector<glm::vec3> moves_before = last_move_;
-  st.splits = refine_step(it, graded);
+  std::size_t moved_by_paths = 0;
+  st.splits = refine_step(it, graded, moved_by_paths);
   locate_new_rim_vertices();
   sample_new_vertices();
   st.phases.splits = seconds_since(t0);
@@ -742,7 +752,7 @@ IterationStats Refiner::attempt(std::uint32_t it, double e_before, bool graded, 
     tree_.parents.resize(s_.positions.size()), tree_.weights.resize(s_.positions.size());
     clearance_.resize(s_.positions.size());
     rim_.at.resize(s_.positions.size()), rim_.on_b.resize(s_.positions.size());
-    undone = st.splits + st.flips > 0;
+    undone = moved_by_paths > 0;  // else the splits on the samples' own elements were these
     st.splits = st.flips = 0;
     st.energy = e_before;  // S is the one e_before was measured on
   }
