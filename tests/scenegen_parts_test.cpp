@@ -144,6 +144,47 @@ TEST(ScenegenParts, LayoutsAreCleanSolidPieces) {
   }
 }
 
+// Two sites either side of a weak slab at x = 0.5, off the middle between them: the plain
+// Voronoi cells meet at x = 0, the geodesic ones in the slab, as a coarse simulation of that
+// material would crack.
+TEST(ScenegenParts, GeodesicCellsMeetInWeakMaterial) {
+  const TetSet set = box_lattice({{-1.0, -0.5, -0.5}, {1.0, 0.5, 0.5}, {20, 10, 10}});
+  const TetFaces faces = tet_faces(set);
+  const auto centroid_near = [&](const glm::dvec3& p) {
+    glm::dvec3 best = tet_centroid(set, 0);
+    for (std::uint32_t t = 1; t < set.tets.size(); ++t)
+      if (glm::distance(tet_centroid(set, t), p) < glm::distance(best, p)) best = tet_centroid(set, t);
+    return best;
+  };
+  const std::vector<glm::dvec3> sites = {centroid_near({-0.9, 0.0, 0.0}), centroid_near({0.9, 0.0, 0.0})};
+  const CrackCost weak_slab = [](const glm::dvec3& p) { return std::abs(p.x - 0.5) < 0.1 ? 10.0 : 1.0; };
+  const auto cut_x = [&](const std::vector<int>& labels) {
+    double lo = 1e300, hi = -1e300;
+    for (std::size_t i = 0; i < faces.interior.size(); ++i) {
+      if (labels[faces.interior_tets[i].x] == labels[faces.interior_tets[i].y]) continue;
+      const glm::uvec3 f = faces.interior[i];
+      const double x = (set.positions[f.x].x + set.positions[f.y].x + set.positions[f.z].x) / 3.0;
+      lo = std::min(lo, x), hi = std::max(hi, x);
+    }
+    return std::pair(lo, hi);
+  };
+  const auto [plain_lo, plain_hi] = cut_x(voronoi_labels(set, sites));
+  EXPECT_LT(plain_hi, 0.3);
+  const std::vector<double> costs = crossing_costs(set, faces, weak_slab);
+  ASSERT_EQ(costs.size(), faces.interior.size());
+  std::vector<int> labels = geodesic_labels(set, faces, sites, costs);
+  const auto [lo, hi] = cut_x(labels);
+  EXPECT_GT(lo, 0.35);
+  EXPECT_LT(hi, 0.65);
+  // Without a weak place the geodesic cells are the lattice's own Voronoi cells.
+  const std::vector<double> flat = crossing_costs(set, faces, [](const glm::dvec3&) { return 1.0; });
+  const auto [flat_lo, flat_hi] = cut_x(geodesic_labels(set, faces, sites, flat));
+  EXPECT_GT(flat_lo, -0.35);
+  EXPECT_LT(flat_hi, 0.35);
+  tidy_labels(set, faces, labels, 8);
+  EXPECT_EQ(cut_x(labels), std::pair(lo, hi));
+}
+
 TEST(ScenegenParts, DuplicatesAppearAsAPrefixInSplitOrder) {
   TetSet set = box_lattice({{0.0, 0.0, 0.0}, {3.0, 1.0, 1.0}, {3, 1, 1}});
   const std::size_t n = set.positions.size();

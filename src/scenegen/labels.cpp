@@ -179,11 +179,12 @@ std::size_t cut_face_count(const TetFaces& faces, const std::vector<int>& labels
 }
 
 std::vector<int> best_layout(const TetSet& set, const TetFaces& faces, const std::vector<glm::dvec3>& sites, int k_lo,
-                             int k_hi, std::size_t target, std::size_t min_tets) {
+                             int k_hi, std::size_t target, std::size_t min_tets, const std::vector<double>& costs) {
   std::vector<int> best;
   std::size_t best_error = std::numeric_limits<std::size_t>::max();
   for (int k = k_lo; k <= k_hi && k <= int(sites.size()); ++k) {
-    std::vector<int> labels = voronoi_labels(set, {sites.begin(), sites.begin() + k});
+    const std::vector<glm::dvec3> first(sites.begin(), sites.begin() + k);
+    std::vector<int> labels = costs.empty() ? voronoi_labels(set, first) : geodesic_labels(set, faces, first, costs);
     tidy_labels(set, faces, labels, min_tets);
     const std::size_t count = cut_face_count(faces, labels);
     const std::size_t error = count > target ? count - target : target - count;

@@ -31,7 +31,7 @@ constexpr SceneText kScenes[] = {
     {"bunny", "marble bunny",
      "The paper's marble bunny: a tet fracture of the Stanford bunny falling apart, refined in a 50^3 marble field "
      "(paper: 256 -> 174K triangles).",
-     "marble", {50, 50, 50}, 3e-7, 1e-4, 2e-4},
+     "marble", {50, 50, 50}, 1.5e-7, 1e-4, 2e-4},
     {"branch", "tree branch",
      "The paper's tree branch: an incomplete cut in the middle of a cylinder, completed by virtual fracture, refined "
      "in a 32x32x64 branch field (paper: 60 -> 123K triangles).",
@@ -80,13 +80,21 @@ Json scene_json(const SceneSetup& setup, const Json& animation, const std::strin
   return j;
 }
 
+CrackCost demo_weakness(const SceneSetup& setup, const glm::dvec3& lo, const glm::dvec3& hi) {
+  for (const SceneText& t : kScenes)
+    if (setup.name == t.name) return weakness_cost(t.field, setup.seed, lo, hi);
+  throw RunError("scenegen: no demo scene '" + setup.name + "'");
+}
+
 PieceLayout piece_layout(TetSet set, const LayoutGoal& goal, Rng& rng,
-                         const std::function<double(const glm::dvec3&)>& spacing) {
+                         const std::function<double(const glm::dvec3&)>& spacing,
+                         const std::function<double(const glm::dvec3&)>& weakness) {
   PieceLayout out;
   out.set = std::move(set);
   const TetFaces faces = tet_faces(out.set);
   const std::vector<glm::dvec3> sites = spread_sites(out.set, goal.k_hi, rng, spacing);
-  out.labels = best_layout(out.set, faces, sites, goal.k_lo, goal.k_hi, goal.target, goal.min_tets);
+  const std::vector<double> costs = weakness ? crossing_costs(out.set, faces, weakness) : std::vector<double>{};
+  out.labels = best_layout(out.set, faces, sites, goal.k_lo, goal.k_hi, goal.target, goal.min_tets, costs);
   for (const int l : out.labels) out.pieces = std::max(out.pieces, l + 1);
   out.volumes.assign(out.pieces, 0.0);
   out.centroids.assign(out.pieces, glm::dvec3(0.0));

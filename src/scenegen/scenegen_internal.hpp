@@ -118,6 +118,27 @@ std::vector<glm::dvec3> spread_sites(const TetSet& set, int count, Rng& rng,
 /// Per tet, the nearest site's index.
 std::vector<int> voronoi_labels(const TetSet& set, const std::vector<glm::dvec3>& sites);
 
+/// How costly it is, per unit length, for a coarse crack's pieces to grow through a point.
+using CrackCost = std::function<double(const glm::dvec3&)>;
+
+/// Added to ζ in weakness_cost, so that a point of ζ = 0 costs finitely much.
+inline constexpr double kCostFloor = 0.05;
+
+/// 1 / (ζ + kCostFloor) for the demo material `field_type` (default parameters, `seed`) on the
+/// object box [lo, hi]: the material the refiner reads from the same scene.
+/// \throw InputError as validate_field_spec().
+CrackCost weakness_cost(const std::string& field_type, std::uint64_t seed, const glm::dvec3& lo, const glm::dvec3& hi);
+
+/// Per interior face, the cost of the segment joining its two tets' centroids: its length times
+/// the mean of `cost` at eight points along it.
+std::vector<double> crossing_costs(const TetSet& set, const TetFaces& faces, const CrackCost& cost);
+
+/// Per tet, the site nearest through the tets' face graph, with `costs` (crossing_costs) on its
+/// edges: a geodesic Voronoi labelling whose cells meet where crossing is dear (weak material),
+/// as a coarse simulation of that material would crack. Each site starts at its nearest tet.
+std::vector<int> geodesic_labels(const TetSet& set, const TetFaces& faces, const std::vector<glm::dvec3>& sites,
+                                 const std::vector<double>& costs);
+
 /// Makes the labels a clean piece layout, renumbered 0, 1, ... by lowest tet: every label's tets
 /// face-connected (parts get labels of their own; parts of fewer than `min_tets` tets join the
 /// neighbour they share most faces with); every piece a 2-manifold solid; and at most one cut
@@ -130,10 +151,11 @@ void tidy_labels(const TetSet& set, const TetFaces& faces, std::vector<int>& lab
 /// Interior faces whose two tets have different labels.
 std::size_t cut_face_count(const TetFaces& faces, const std::vector<int>& labels);
 
-/// Voronoi labels of the first k sites for k in [k_lo, k_hi], tidied; the layout whose cut face
-/// count is closest to `target` (ties to the smaller k).
+/// Voronoi labels of the first k sites for k in [k_lo, k_hi] (geodesic_labels when `costs` is
+/// not empty), tidied; the layout whose cut face count is closest to `target` (ties to the
+/// smaller k).
 std::vector<int> best_layout(const TetSet& set, const TetFaces& faces, const std::vector<glm::dvec3>& sites, int k_lo,
-                             int k_hi, std::size_t target, std::size_t min_tets);
+                             int k_hi, std::size_t target, std::size_t min_tets, const std::vector<double>& costs = {});
 
 // ------------------------------------------------------------------------------------------------
 // Duplicated vertices (a simulator's last frame), duplicate.cpp

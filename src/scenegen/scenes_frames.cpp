@@ -164,7 +164,8 @@ Json make_clay(const SceneSetup& setup) {
   for (std::uint32_t t = 0; t < set.tets.size(); ++t)
     if (!(tet_volume(set, t) > 0.0)) throw RunError("scenegen: clay: a mapped lattice tet is flat or inverted");
   Rng rng(setup.seed ^ 0xc1a7ull);
-  PieceLayout layout = piece_layout(std::move(set), {510, 6, 14, 8}, rng, [](const glm::dvec3&) { return 1.0; });
+  PieceLayout layout = piece_layout(std::move(set), {510, 6, 14, 8}, rng, [](const glm::dvec3&) { return 1.0; },
+                                    demo_weakness(setup, lo, hi));
   // The bottom (y = -1) is held; the rest tears off late, top pieces first.
   const int main = piece_near(layout, {0.0, -1.0, 0.0});
   std::vector<int> order = others(layout.pieces, main);
@@ -180,7 +181,7 @@ Json make_jello(const SceneSetup& setup) {
   write_obj(setup.folder / "jello.obj", make_box(lo, hi, {40, 40, 20}), "Jell-O block 2 x 2 x 1, z up");
   Rng rng(setup.seed ^ 0x7e110ull);
   PieceLayout layout = piece_layout(box_lattice({lo, hi, {10, 10, 5}}), {488, 5, 12, 8}, rng,
-                                    [](const glm::dvec3&) { return 1.0; });
+                                    [](const glm::dvec3&) { return 1.0; }, demo_weakness(setup, lo, hi));
   // Gradual fracture: the piece at the centre of the base stays; the others come off one by one.
   const int main = piece_near(layout, {0.0, 0.0, 0.0});
   std::vector<int> order = others(layout.pieces, main);
