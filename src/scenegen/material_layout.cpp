@@ -29,9 +29,9 @@ std::vector<double> crossing_costs(const TetSet& set, const TetFaces& faces, con
   std::vector<double> out(faces.interior_tets.size());
   for (std::size_t i = 0; i < out.size(); ++i) {
     const glm::dvec3 a = tet_centroid(set, faces.interior_tets[i].x), b = tet_centroid(set, faces.interior_tets[i].y);
-    double sum = 0.0;
-    for (int k = 0; k < kSamples; ++k) sum += cost(a + (b - a) * ((k + 0.5) / kSamples));
-    out[i] = glm::distance(a, b) * sum / kSamples;
+    double most = 0.0;
+    for (int k = 0; k < kSamples; ++k) most = std::max(most, cost(a + (b - a) * ((k + 0.5) / kSamples)));
+    out[i] = glm::distance(a, b) * most;
   }
   return out;
 }

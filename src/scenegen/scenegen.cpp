@@ -31,7 +31,7 @@ constexpr SceneText kScenes[] = {
     {"bunny", "marble bunny",
      "The paper's marble bunny: a tet fracture of the Stanford bunny falling apart, refined in a 50^3 marble field "
      "(paper: 256 -> 174K triangles).",
-     "marble", {50, 50, 50}, 1.5e-7, 1e-4, 2e-4},
+     "marble", {50, 50, 50}, 1.2e-7, 1e-4, 2e-4},
     {"branch", "tree branch",
      "The paper's tree branch: an incomplete cut in the middle of a cylinder, completed by virtual fracture, refined "
      "in a 32x32x64 branch field (paper: 60 -> 123K triangles).",
@@ -39,7 +39,7 @@ constexpr SceneText kScenes[] = {
     {"wall", "collapsing brick wall",
      "The paper's collapsing wall: a wrecking ball knocks pieces out of a brick wall, refined in a 150x50x10 brick "
      "field (paper: 204 -> 208K triangles).",
-     "brick", {150, 50, 10}, 6e-8, 5e-5, 1e-4},
+     "brick", {150, 50, 10}, 2.5e-8, 5e-5, 1e-4},
     {"clay", "twisted plastic clay",
      "The paper's plastic clay: large twisting, plastic deformation before it tears, refined in a 32x64x64 fBm field "
      "(paper: 510 -> 40K triangles).",
@@ -94,7 +94,8 @@ PieceLayout piece_layout(TetSet set, const LayoutGoal& goal, Rng& rng,
   const TetFaces faces = tet_faces(out.set);
   const std::vector<glm::dvec3> sites = spread_sites(out.set, goal.k_hi, rng, spacing);
   const std::vector<double> costs = weakness ? crossing_costs(out.set, faces, weakness) : std::vector<double>{};
-  out.labels = best_layout(out.set, faces, sites, goal.k_lo, goal.k_hi, goal.target, goal.min_tets, costs);
+  out.labels = best_layout(out.set, faces, sites, goal.k_lo, goal.k_hi, goal.target, goal.min_tets, costs,
+                           goal.cell_tets);
   for (const int l : out.labels) out.pieces = std::max(out.pieces, l + 1);
   out.volumes.assign(out.pieces, 0.0);
   out.centroids.assign(out.pieces, glm::dvec3(0.0));

@@ -130,7 +130,8 @@ inline constexpr double kCostFloor = 0.05;
 CrackCost weakness_cost(const std::string& field_type, std::uint64_t seed, const glm::dvec3& lo, const glm::dvec3& hi);
 
 /// Per interior face, the cost of the segment joining its two tets' centroids: its length times
-/// the mean of `cost` at eight points along it.
+/// the largest `cost` at eight points along it (the weakest material between the two tets, which
+/// a thin weak layer such as the wall's brick-mortar interface would be lost in a mean).
 std::vector<double> crossing_costs(const TetSet& set, const TetFaces& faces, const CrackCost& cost);
 
 /// Per tet, the site nearest through the tets' face graph, with `costs` (crossing_costs) on its
@@ -152,10 +153,15 @@ void tidy_labels(const TetSet& set, const TetFaces& faces, std::vector<int>& lab
 std::size_t cut_face_count(const TetFaces& faces, const std::vector<int>& labels);
 
 /// Voronoi labels of the first k sites for k in [k_lo, k_hi] (geodesic_labels when `costs` is
-/// not empty), tidied; the layout whose cut face count is closest to `target` (ties to the
+/// not empty), whole_cells when cell_tets > 1, tidied; the layout whose cut face count is closest to `target` (ties to the
 /// smaller k).
 std::vector<int> best_layout(const TetSet& set, const TetFaces& faces, const std::vector<glm::dvec3>& sites, int k_lo,
-                             int k_hi, std::size_t target, std::size_t min_tets, const std::vector<double>& costs = {});
+                             int k_hi, std::size_t target, std::size_t min_tets, const std::vector<double>& costs = {},
+                             int cell_tets = 1);
+
+/// Gives each run of `cell_tets` consecutive tets (a box_lattice cell: 6 tets) the label most of
+/// them have (ties to the lowest), so that cuts run only on the cells' faces.
+void whole_cells(std::vector<int>& labels, int cell_tets);
 
 // ------------------------------------------------------------------------------------------------
 // Duplicated vertices (a simulator's last frame), duplicate.cpp

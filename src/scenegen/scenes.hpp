@@ -44,6 +44,7 @@ struct LayoutGoal {
   std::size_t target = 0;  ///< cut faces wanted
   int k_lo = 2, k_hi = 8;  ///< Voronoi sites tried
   std::size_t min_tets = 8;
+  int cell_tets = 1;  ///< 6 keeps a box_lattice's cells whole (whole_cells)
 };
 
 /// weakness_cost of the demo's own material (its field type, default parameters, the setup's

@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 
+#include "field/procedural.hpp"
 #include "io/mesh_io.hpp"
 #include "scenegen/scenes.hpp"
 #include "util/atomic_output.hpp"
@@ -136,15 +137,48 @@ Json make_bunny(const SceneSetup& setup, const std::filesystem::path& bunny_obj)
   return scene_json(setup, write_rigid_animation(setup, falling_apart(layout, rng)));
 }
 
+namespace {
+
+// The wall's coarse mesh as a masonry model meshes a wall, unit by unit: a box lattice whose
+// planes lie in the middle of the mortar joints of the demo's brick field (its default
+// parameters), the bed joints across y and, across x, a plane at every half brick, where the
+// head joints of one course or the next lie (courses are offset by half a brick). Planes closer
+// than 0.4 of a pitch to the wall's ends are left out, so no cell is a sliver.
+TetSet brick_lattice(const glm::dvec3& lo, const glm::dvec3& hi) {
+  const BrickParams b;
+  const double diagonal = glm::length(hi - lo);
+  const glm::dvec3 size = b.brick_size * diagonal;
+  const double mortar = b.mortar * diagonal;
+  const glm::dvec2 pitch(size.x + mortar, size.y + mortar);
+  const auto planes = [](double first, double step, double length) {
+    std::vector<double> p{0.0};
+    for (double c = first; c < length - 0.4 * step; c += step)
+      if (c > 0.4 * step) p.push_back(c);
+    p.push_back(length);
+    return p;
+  };
+  const std::vector<double> xs = planes(size.x + 0.5 * mortar - pitch.x, 0.5 * pitch.x, hi.x - lo.x);
+  const std::vector<double> ys = planes(size.y + 0.5 * mortar, pitch.y, hi.y - lo.y);
+  TetSet set = box_lattice({lo, hi, {int(xs.size()) - 1, int(ys.size()) - 1, 2}});
+  for (glm::dvec3& p : set.positions) {
+    const int i = int(std::lround((p.x - lo.x) / (hi.x - lo.x) * double(xs.size() - 1)));
+    const int j = int(std::lround((p.y - lo.y) / (hi.y - lo.y) * double(ys.size() - 1)));
+    p.x = lo.x + xs[i], p.y = lo.y + ys[j];
+  }
+  return set;
+}
+
+}  // namespace
+
 Json make_wall(const SceneSetup& setup) {
   const glm::dvec3 lo(-1.5, 0.0, -0.1), hi(1.5, 1.0, 0.1);
   write_obj(setup.folder / "wall.obj", make_box(lo, hi, {60, 20, 4}), "brick wall 3 x 1 x 0.2, y up");
   Rng rng(setup.seed ^ 0x3a11b41150ull);
-  // Small pieces near the impact, large ones far from it. Blind to the material: the lattice's
-  // cells (0.2) are coarser than a course of bricks (0.165), so a layout by the material cannot
-  // find the joints (its cracks lie no more in the weak brick-mortar interfaces than these).
-  PieceLayout layout = piece_layout(box_lattice({lo, hi, {15, 5, 2}}), {204, 8, 20, 6}, rng,
-                                    [](const glm::dvec3& p) { return 0.3 + 0.7 * std::min(1.0, reach(p) / 1.2); });
+  // Small pieces near the impact, large ones far from it, laid out by the material on a lattice
+  // of half bricks whose cells stay whole: the cracks run in the joints, as a masonry model's do.
+  PieceLayout layout = piece_layout(brick_lattice(lo, hi), {204, 8, 20, 6, 6}, rng,
+                                    [](const glm::dvec3& p) { return 0.3 + 0.7 * std::min(1.0, reach(p) / 1.2); },
+                                    demo_weakness(setup, lo, hi));
   give_pieces_own_vertices(layout);
   write_medit(setup.folder / "wall_coarse.mesh", layout.set, layout.labels);
   return scene_json(setup, write_rigid_animation(setup, knocked_out(layout, rng)));
