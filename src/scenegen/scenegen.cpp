@@ -37,8 +37,8 @@ constexpr SceneText kScenes[] = {
      "in a 32x32x64 branch field (paper: 60 -> 123K triangles).",
      "branch", {32, 32, 64}, 1e-7, 5e-5, 1e-5},
     {"wall", "collapsing brick wall",
-     "The paper's collapsing wall: a wrecking ball knocks pieces out of a brick wall, refined in a 150x50x10 brick "
-     "field (paper: 204 -> 208K triangles).",
+     "The paper's collapsing wall: a wrecking ball knocks pieces out of a brick wall, whose coarse mesh follows "
+     "its bricks, refined in a 150x50x10 brick field (paper: 204 -> 208K triangles).",
      "brick", {150, 50, 10}, 2.5e-8, 5e-5, 1e-4},
     {"clay", "twisted plastic clay",
      "The paper's plastic clay: large twisting, plastic deformation before it tears, refined in a 32x64x64 fBm field "
