@@ -87,8 +87,7 @@ CrackCost demo_weakness(const SceneSetup& setup, const glm::dvec3& lo, const glm
 }
 
 PieceLayout piece_layout(TetSet set, const LayoutGoal& goal, Rng& rng,
-                         const std::function<double(const glm::dvec3&)>& spacing,
-                         const std::function<double(const glm::dvec3&)>& weakness) {
+                         const std::function<double(const glm::dvec3&)>& spacing, const CrackCost& weakness) {
   PieceLayout out;
   out.set = std::move(set);
   const TetFaces faces = tet_faces(out.set);

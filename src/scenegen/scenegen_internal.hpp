@@ -153,8 +153,8 @@ void tidy_labels(const TetSet& set, const TetFaces& faces, std::vector<int>& lab
 std::size_t cut_face_count(const TetFaces& faces, const std::vector<int>& labels);
 
 /// Voronoi labels of the first k sites for k in [k_lo, k_hi] (geodesic_labels when `costs` is
-/// not empty), whole_cells when cell_tets > 1, tidied; the layout whose cut face count is closest to `target` (ties to the
-/// smaller k).
+/// not empty), with whole_cells when cell_tets > 1, tidied; the layout whose cut face count is
+/// closest to `target` (ties to the smaller k).
 std::vector<int> best_layout(const TetSet& set, const TetFaces& faces, const std::vector<glm::dvec3>& sites, int k_lo,
                              int k_hi, std::size_t target, std::size_t min_tets, const std::vector<double>& costs = {},
                              int cell_tets = 1);

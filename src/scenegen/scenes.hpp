@@ -49,15 +49,13 @@ struct LayoutGoal {
 
 /// weakness_cost of the demo's own material (its field type, default parameters, the setup's
 /// seed) on the object box [lo, hi].
-std::function<double(const glm::dvec3&)> demo_weakness(const SceneSetup& setup, const glm::dvec3& lo,
-                                                       const glm::dvec3& hi);
+CrackCost demo_weakness(const SceneSetup& setup, const glm::dvec3& lo, const glm::dvec3& hi);
 
 /// best_layout on `set` with sites spread by `spacing` (local piece size, 1 = uniform); with
 /// `weakness` (per-length crossing cost, weakness_cost), the cells are geodesic ones that meet
 /// in weak material.
 PieceLayout piece_layout(TetSet set, const LayoutGoal& goal, Rng& rng,
-                         const std::function<double(const glm::dvec3&)>& spacing,
-                         const std::function<double(const glm::dvec3&)>& weakness = {});
+                         const std::function<double(const glm::dvec3&)>& spacing, const CrackCost& weakness = {});
 
 
 /// The piece (label) whose tet centroid is nearest to `p`.
