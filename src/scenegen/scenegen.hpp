@@ -5,17 +5,22 @@
 // and a scene JSON referencing them with relative paths. The coarse fracture is made as a
 // simulator would leave it, with its hull vertices on the exterior:
 //  - bunny: isosurface stuffing of the npm bunny on a Kuhn lattice (a tenth of its size per
-//    cube), seeded Voronoi pieces; rigid pieces that burst apart and fall;
+//    cube), seeded Voronoi pieces laid out by the material (below); rigid pieces that burst
+//    apart and fall;
 //  - branch: a structured cylinder, ONE labelled piece and a cracks file covering the middle
 //    cross-section above a (seeded) front at y in [-0.4, -0.2], completed by virtual fracture;
 //    frames that bend it, then open the crack about its front (backward remeshing: the crack's
 //    duplicated vertices appear at frame 20);
-//  - wall: a box lattice, Voronoi pieces smaller near the wrecking ball's impact; rigid pieces
-//    knocked out and falling, the rest standing;
+//  - wall: a lattice of half bricks (its planes in the middle of the mortar joints), Voronoi
+//    pieces of whole cells, smaller near the wrecking ball's impact; rigid pieces knocked out and
+//    falling, the rest standing;
 //  - clay: a box lattice mapped onto a rounded box, Voronoi pieces; frames twisting it about its
 //    long axis, the pieces tearing off late (frames 30-44);
 //  - jello: a box lattice, Voronoi pieces; frames bouncing it with squash and stretch, the
 //    pieces breaking off one by one (frames 14-44).
+// The Voronoi cells (all but the branch's) are geodesic ones under a crossing cost that is high
+// in weak material, so that the cracks run where the scene's material is weak, as a coarse
+// simulation of it would crack (docs/DESIGN.md, "Where the demos' coarse cracks run").
 // The number of Voronoi sites is chosen so that the coarse fracture surface has about the
 // paper's triangle count (demo_scene_targets()); a piece layout is cleaned so that every piece
 // is a connected 2-manifold solid and every cut meets the exterior in one face per hull edge.
