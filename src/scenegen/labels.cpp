@@ -106,6 +106,14 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> piece_defects(const TetFace
   return bad;
 }
 
+// The label with the most votes, ties to the lowest.
+int most_votes(const std::map<int, int>& votes) {
+  int winner = votes.begin()->first;
+  for (const auto& [label, n] : votes)
+    if (n > votes.at(winner)) winner = label;
+  return winner;
+}
+
 // The tets around each defect take the label most of them have (ties to the lowest label), or
 // with `lowest`, the lowest label among them: labels then only decrease, so repeated rounds end.
 void fill_defects(const TetSet& set, const VertexTets& vt, std::vector<int>& labels,
@@ -118,9 +126,7 @@ void fill_defects(const TetSet& set, const VertexTets& vt, std::vector<int>& lab
     }
     std::map<int, int> votes;
     for (const std::uint32_t t : around) ++votes[labels[t]];
-    int winner = votes.begin()->first;
-    for (const auto& [label, n] : votes)
-      if (n > votes[winner] && !lowest) winner = label;
+    const int winner = lowest ? votes.begin()->first : most_votes(votes);
     for (const std::uint32_t t : around) labels[t] = winner;
   }
 }
@@ -164,10 +170,7 @@ void whole_cells(std::vector<int>& labels, int cell_tets) {
   for (std::size_t c = 0; c + std::size_t(cell_tets) <= labels.size(); c += std::size_t(cell_tets)) {
     std::map<int, int> votes;
     for (std::size_t t = c; t < c + std::size_t(cell_tets); ++t) ++votes[labels[t]];
-    int winner = votes.begin()->first;
-    for (const auto& [label, n] : votes)
-      if (n > votes[winner]) winner = label;
-    std::fill(labels.begin() + std::ptrdiff_t(c), labels.begin() + std::ptrdiff_t(c) + cell_tets, winner);
+    std::fill(labels.begin() + std::ptrdiff_t(c), labels.begin() + std::ptrdiff_t(c) + cell_tets, most_votes(votes));
   }
 }
 

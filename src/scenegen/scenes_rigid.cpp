@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 #include "field/procedural.hpp"
 #include "io/mesh_io.hpp"
@@ -62,14 +63,18 @@ RigidTransform thrown(const glm::dvec3& centroid, int frame, int start, const gl
   return x;
 }
 
+// The exterior's bounding box.
+std::pair<glm::dvec3, glm::dvec3> bounds(const TriMesh& exterior) {
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const glm::dvec3& p : exterior.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  return {lo, hi};
+}
+
 // A lattice of cubes of a tenth of the exterior's longest side, with one cube to spare on
 // every side.
 LatticeSpec padded_lattice(const TriMesh& exterior) {
   LatticeSpec lattice;
-  for (const glm::dvec3& p : exterior.positions) {
-    lattice.lo = glm::min(lattice.lo, p);
-    lattice.hi = glm::max(lattice.hi, p);
-  }
+  std::tie(lattice.lo, lattice.hi) = bounds(exterior);
   const glm::dvec3 extent = lattice.hi - lattice.lo;
   const double h = std::max({extent.x, extent.y, extent.z}) / 10.0;
   lattice.cells = glm::ivec3(glm::ceil(extent / h - 1e-9)) + 2;
@@ -128,8 +133,7 @@ Json make_bunny(const SceneSetup& setup, const std::filesystem::path& bunny_obj)
   const TriMesh exterior = read_bunny(bunny_obj);
   copy_file_bytes(bunny_obj, setup.folder / "bunny.obj");
   Rng rng(setup.seed ^ 0xb0a4a11ce5ull);
-  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  for (const glm::dvec3& p : exterior.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const auto [lo, hi] = bounds(exterior);
   PieceLayout layout = piece_layout(stuffed_tets(exterior, padded_lattice(exterior), 0.3), {256, 5, 10, 8}, rng,
                                     [](const glm::dvec3&) { return 1.0; }, demo_weakness(setup, lo, hi));
   give_pieces_own_vertices(layout);
