@@ -33,9 +33,10 @@ constexpr SceneText kScenes[] = {
      "(paper: 256 -> 174K triangles).",
      "marble", {50, 50, 50}, 1.2e-7, 1e-4, 2e-4},
     {"branch", "tree branch",
-     "The paper's tree branch: an incomplete cut in the middle of a cylinder, completed by virtual fracture, refined "
+     "The paper's tree branch: an incomplete cut in the middle of a cylinder, splintered on the side that snaps "
+     "open, completed by virtual fracture, refined "
      "in a 32x32x64 branch field (paper: 60 -> 123K triangles).",
-     "branch", {32, 32, 64}, 1e-7, 5e-5, 1e-5},
+     "branch", {32, 32, 64}, 4e-8, 5e-5, 1e-5},
     {"wall", "collapsing brick wall",
      "The paper's collapsing wall: a wrecking ball knocks pieces out of a brick wall, whose coarse mesh follows "
      "its bricks, refined in a 150x50x10 brick field (paper: 204 -> 208K triangles).",

@@ -140,6 +140,41 @@ std::vector<double> crossing_costs(const TetSet& set, const TetFaces& faces, con
 std::vector<int> geodesic_labels(const TetSet& set, const TetFaces& faces, const std::vector<glm::dvec3>& sites,
                                  const std::vector<double>& costs);
 
+/// A crack across a cylinder_tets set, and the two sides it separates.
+struct SplinterCut {
+  std::vector<int> side;              ///< per tet: 0 below the cut, 1 above
+  std::vector<int> height;            ///< per column (disc triangle): the cut's layer, from the middle one
+  std::vector<glm::uvec3> faces;      ///< the cracked faces: faces between the sides whose centroid has y > front
+  std::vector<std::uint8_t> opens;    ///< per vertex: every face between the sides at it is cracked
+};
+
+struct SplinterOptions {
+  double front = 0.0;           ///< the crack covers y > front; the bend opens it about the line y = front, z = 0
+  double radius = 1.0;          ///< the cylinder's
+  double reach = 6.0;           ///< layers a fibre of ζ = 1 at the far side (y = radius) pulls out of the other half
+  bool flip = false;            ///< splinters at x > 0 stay with the upper half (else the lower), those at x < 0 the other
+  double min_wall_slope = 0.0;  ///< the least y part of a step wall's normal towards its taller side (0: walls may slide)
+};
+
+/// The tree branch's coarse crack, as a coarse simulation of a green branch snapping in
+/// bending would leave it: on the tension side (away from the hinge, the line y = front, z = 0)
+/// fibres pull out of the other half as splinters. Each column of tets (a disc triangle) wants
+/// to break reach × tension × ζ layers from the middle (tension: 0 at the hinge, 1 at the far
+/// side; ζ from `weakness` = 1 / (ζ + kCostFloor), at the middle), towards the upper half on
+/// one side of x = 0 and the lower half on the other (`flip`). The columns then grow from a
+/// flat cut towards what they want, farthest from the hinge first, each as far as it may
+/// beside its neighbours, so that the opening (the sides turning apart about the hinge line)
+/// pulls every step wall apart or slides it, never closes it (correct by construction):
+/// columns breaking above and below the middle never touch, and across each wall the column
+/// that breaks farther from the middle lies on the far side from the hinge (the wall's normal
+/// towards it has a y part of min_wall_slope or more). Then columns are brought back towards
+/// the middle wherever either side's tets would pinch along a vertical edge (more than one run
+/// of a side about it at some layer), and wherever that breaks a wall rule, until both hold, so
+/// both sides are 2-manifold solids. Deterministic.
+/// \pre set = cylinder_tets(options.radius, ..., layers) with layers even and `weakness` > 0.
+/// \throw RunError when set is not such a set.
+SplinterCut splinter_cut(const TetSet& set, int layers, const CrackCost& weakness, const SplinterOptions& options);
+
 /// Makes the labels a clean piece layout, renumbered 0, 1, ... by lowest tet: every label's tets
 /// face-connected (parts get labels of their own; parts of fewer than `min_tets` tets join the
 /// neighbour they share most faces with); every piece a 2-manifold solid; and at most one cut

@@ -44,34 +44,13 @@ glm::dvec3 bend(const glm::dvec3& x, double kappa) {
   return {x.x, -r + rho * std::cos(phi), rho * std::sin(phi)};
 }
 
-// The branch's incomplete cut: the faces of the plane z = 0 above y = front, and the vertices
-// that open with it (all of whose plane faces are cut; the front's stay joined).
-struct PlaneCrack {
-  std::vector<glm::uvec3> faces;
-  std::vector<std::uint8_t> opens;
-};
-
-PlaneCrack plane_crack(const TetSet& set, double front) {
-  PlaneCrack crack;
-  std::vector<std::uint8_t> in_plane(set.positions.size(), 0), joined(set.positions.size(), 0);
-  for (const glm::uvec3& f : tet_faces(set).interior) {
-    const glm::dvec3 a = set.positions[f.x], b = set.positions[f.y], c = set.positions[f.z];
-    if (a.z != 0.0 || b.z != 0.0 || c.z != 0.0) continue;
-    const bool cut = (a.y + b.y + c.y) / 3.0 > front;
-    if (cut) crack.faces.push_back(f);
-    for (int i = 0; i < 3; ++i) in_plane[f[i]] = 1, joined[f[i]] |= !cut;
-  }
-  crack.opens.resize(set.positions.size());
-  for (std::size_t v = 0; v < in_plane.size(); ++v) crack.opens[v] = in_plane[v] && !joined[v];
-  return crack;
-}
-
-constexpr int kSnap = 20;  // the frame the branch snaps at
+constexpr int kSnap = 20;              // the frame the branch snaps at
+constexpr double kBranchLength = 4.0;  // the paper's 32 x 32 x 64 grid has cubic cells on a 2 x 2 x 4 box
 
 // Bends until the snap, then the halves (groups 0: z < 0, 1: z > 0) turn apart about the crack
 // front; the uncut fibres below it (group -1, shared) hold them together, as in a green branch.
 Motion branch_motion(double front, double open_angle) {
-  const double kappa = 20.0 * kDegree / 4.0;  // the ends turn by 20 degrees
+  const double kappa = 20.0 * kDegree / (0.5 * kBranchLength);  // the ends turn by 20 degrees
   return [=](const glm::dvec3& x, int group, int f) {
     const double k = kappa * (smoothstep01(f / double(kSnap)) + 0.3 * smoothstep01((f - kSnap) / 27.0));
     const glm::dvec3 p = bend(x, k);
@@ -135,20 +114,23 @@ Json write_tearing(const SceneSetup& setup, PieceLayout& layout, const std::vect
 }  // namespace
 
 Json make_branch(const SceneSetup& setup) {
-  write_obj(setup.folder / "branch.obj", make_cylinder(1.0, 8.0, 32, 32),
-            "tree branch: a capped cylinder, radius 1, length 8 along z");
-  // Rings of 1, 8, 14 and 16 vertices: the cross-section at z = 0 has the paper's 60 triangles.
-  TetSet set = cylinder_tets(1.0, 8.0, {1, 8, 14, 16}, 24);
+  write_obj(setup.folder / "branch.obj", make_cylinder(1.0, kBranchLength, 32, 32),
+            "tree branch: a capped cylinder, radius 1, length 4 along z");
+  // Rings of 1, 8, 14 and 16 vertices: the cross-section has the paper's 60 triangles.
+  constexpr int kLayers = 24;
+  TetSet set = cylinder_tets(1.0, kBranchLength, {1, 8, 14, 16}, kLayers);
   Rng rng(setup.seed ^ 0xb2a7c4ull);
   const double front = -0.2 - 0.2 * rng.uniform();  // the crack covers y > front
   const double open_angle = (10.0 + 4.0 * rng.uniform()) * kDegree;
-  const PlaneCrack crack = plane_crack(set, front);
-  std::vector<int> side(set.tets.size());
-  for (std::uint32_t t = 0; t < set.tets.size(); ++t) side[t] = tet_centroid(set, t).z > 0.0 ? 1 : 0;
-  const Duplication dup = duplicate_vertices(set, side, {1000, kSnap}, crack.opens);
+  const glm::dvec3 lo(-1.0, -1.0, -0.5 * kBranchLength), hi(1.0, 1.0, 0.5 * kBranchLength);
+  SplinterOptions options;
+  options.front = front;
+  options.flip = rng.uniform() < 0.5;
+  const SplinterCut crack = splinter_cut(set, kLayers, demo_weakness(setup, lo, hi), options);
+  const Duplication dup = duplicate_vertices(set, crack.side, {1000, kSnap}, crack.opens);
   write_medit(setup.folder / "branch_coarse.mesh", set, std::vector<int>(set.tets.size(), 0));
   write_faces(setup.folder / "branch_cracks.txt", crack.faces,
-              "an incomplete cut across the middle of the branch: faces a b c (0-based vertex numbers)");
+              "an incomplete, splintered cut across the middle of the branch: faces a b c (0-based vertex numbers)");
   const Json animation = write_frames_animation(setup, set, dup, branch_motion(front, open_angle));
   return scene_json(setup, animation, "branch_cracks.txt");
 }
