@@ -103,7 +103,9 @@ TEST(ScenegenSplinter, NoSplintersAtTheHingeOrInWeakWood) {
   ASSERT_EQ(columns, 60u);
   for (std::size_t i = 0; i < columns; ++i) {
     const glm::dvec3 centre = tet_centroid(set, std::uint32_t(3 * i));  // layer 0 of column i
-    if (centre.y < kFront) EXPECT_EQ(cut.height[i], 0) << "column " << i;
+    if (centre.y < kFront) {
+      EXPECT_EQ(cut.height[i], 0) << "column " << i;
+    }
   }
   // Wood of ζ = 0.05 snaps where it is bent: 6 × 0.05 rounds to no layer.
   EXPECT_EQ(most_layers(splinter_cut(set, kLayers, uniform(0.05), options)), 0);
