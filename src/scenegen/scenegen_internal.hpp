@@ -151,7 +151,7 @@ struct SplinterCut {
 struct SplinterOptions {
   double front = 0.0;           ///< the crack covers y > front; the bend opens it about the line y = front, z = 0
   double radius = 1.0;          ///< the cylinder's
-  double reach = 6.0;           ///< layers a fibre of ζ = 1 at the far side (y = radius) pulls out of the other half
+  double reach = 10.0;          ///< layers a fibre of ζ = 1 at the far side (y = radius) pulls out of the other half
   bool flip = false;            ///< splinters at x > 0 stay with the upper half (else the lower), those at x < 0 the other
   double min_wall_slope = 0.0;  ///< the least y part of a step wall's normal towards its taller side (0: walls may slide)
 };
@@ -159,8 +159,8 @@ struct SplinterOptions {
 /// The tree branch's coarse crack, as a coarse simulation of a green branch snapping in
 /// bending would leave it: on the tension side (away from the hinge, the line y = front, z = 0)
 /// fibres pull out of the other half as splinters. Each column of tets (a disc triangle) wants
-/// to break reach × tension × ζ layers from the middle (tension: 0 at the hinge, 1 at the far
-/// side; ζ from `weakness` = 1 / (ζ + kCostFloor), at the middle), towards the upper half on
+/// to break reach × tension × ζ layers from the middle (tension: 0 where the column reaches
+/// down to the hinge, 1 at the far side; ζ from `weakness` = 1 / (ζ + kCostFloor), at the middle), towards the upper half on
 /// one side of x = 0 and the lower half on the other (`flip`). The columns then grow from a
 /// flat cut towards what they want, farthest from the hinge first, each as far as it may
 /// beside its neighbours, so that the opening (the sides turning apart about the hinge line)

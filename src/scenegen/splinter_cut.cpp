@@ -30,6 +30,7 @@ struct Fan {
 struct Columns {
   std::uint32_t disc_vertices = 0;
   std::vector<glm::dvec2> centre;
+  std::vector<double> lowest;  // per column, the least y of its corners
   std::vector<Wall> walls;
   std::vector<std::vector<int>> walls_of;             // per column, its walls
   std::vector<std::array<std::uint32_t, 3>> corners;  // per column, its disc vertices
@@ -83,6 +84,7 @@ Columns find_columns(const TetSet& set, int layers) {
     for (int k = 0; k < 3; ++k) centre += glm::dvec2(set.positions[ids[k]]) / 3.0;
     c.centre.push_back(centre);
     c.corners.push_back({ids[0], ids[1], ids[2]});
+    c.lowest.push_back(std::min({set.positions[ids[0]].y, set.positions[ids[1]].y, set.positions[ids[2]].y}));
     for (const auto& [p, q] : {std::pair{ids[0], ids[1]}, std::pair{ids[1], ids[2]}, std::pair{ids[0], ids[2]}}) {
       const auto [it, fresh] = first_at_edge.emplace(std::pair{p, q}, int(i));
       if (fresh) continue;
@@ -100,14 +102,15 @@ Columns find_columns(const TetSet& set, int layers) {
 }
 
 // Per column, how far from the middle (in layers, signed) its fibres pull out: the reach times
-// the tension (0 at the hinge, 1 at the far side) times the strength ζ at the middle, since
+// the tension (0 where the column reaches down to the hinge, 1 at the far side) times the
+// strength ζ at the middle, since
 // strong fibres are the ones that pull out of the weaker wood around them rather than snap
 // where they are bent most. Splinters on the side of x > 0 (x < 0 when `flip`) stay with the
 // lower half, those on the other side with the upper one.
 std::vector<int> wanted_heights(const Columns& c, const CrackCost& weakness, const SplinterOptions& o, double z) {
   std::vector<int> wanted(c.centre.size(), 0);
   for (std::size_t i = 0; i < c.centre.size(); ++i) {
-    const double tension = std::max(0.0, (c.centre[i].y - o.front) / (o.radius - o.front));
+    const double tension = std::max(0.0, (c.lowest[i] - o.front) / (o.radius - o.front));
     const double zeta = 1.0 / weakness(glm::dvec3(c.centre[i], z)) - kCostFloor;
     const int sign = (c.centre[i].x > 0.0) != o.flip ? 1 : -1;
     wanted[i] = sign * int(std::lround(o.reach * tension * zeta));
