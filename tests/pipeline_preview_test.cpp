@@ -2,8 +2,11 @@
 // fracture faces look in opposite directions (no one camera on the pieces in place sees both).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "pieces_test_support.hpp"
 #include "pipeline/job_outputs.hpp"
+#include "pipeline/surface_preview.hpp"
 #include "surface/surface_examples.hpp"
 
 namespace fracref {
@@ -35,6 +38,20 @@ TEST(PiecesPreview, BothSidesOfACutAreSeen) {
   // Each fracture face (3 × 3 of a 3 × 3 × 1 half box) fills a good part of its half picture.
   EXPECT_GT(red, pixels / 20);
   EXPECT_GT(blue, pixels / 20);
+}
+
+TEST(PreviewView, TurnsTowardsTheStepsOfABreakThatFacesTheView) {
+  const glm::dvec3 view(0.0, 0.0, 1.0);
+  // A flat break: seen face-on.
+  EXPECT_EQ(towards_walls({{0, 0, 4}, {0, 0, -1}}, view), view);
+  // Steps across it, 10% of the area, most facing +x: turned 0.6 rad towards +x.
+  const glm::dvec3 stepped = towards_walls({{0, 0, 9}, {0.7, 0, 0}, {-0.3, 0, 0}}, view);
+  EXPECT_NEAR(stepped.x, std::sin(0.6), 1e-9);
+  EXPECT_NEAR(stepped.z, std::cos(0.6), 1e-9);
+  EXPECT_NEAR(towards_walls({{0, 0, 9}, {-0.7, 0, 0}, {0.3, 0, 0}}, view).x, -std::sin(0.6), 1e-9);
+  // Half walls (no one face), or faces that all look at the view askew: left as it is.
+  EXPECT_EQ(towards_walls({{0, 0, 1}, {1, 0, 0}}, view), view);
+  EXPECT_EQ(towards_walls({{0, 0.6, 0.8}, {0, -0.6, 0.8}, {0.1, 0, 0}}, view), view);
 }
 
 }  // namespace

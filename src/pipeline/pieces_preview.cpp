@@ -39,38 +39,6 @@ glm::dmat3 rotation_between(const glm::dvec3& from, const glm::dvec3& to) {
   return glm::dmat3(1.0) + s * K + (1.0 - c) * K * K;
 }
 
-// A piece whose fracture faces have walls across them (a splintered or stepped break: more than
-// kSideShare of the area turned over 60 degrees from the view) is seen turned kSideTurn towards
-// the side most of the walls face, so that they show; on its mean normal they would be edge-on.
-constexpr double kSideShare = 0.05;
-constexpr double kSideTurn = 0.6;  // radians
-
-glm::dvec3 towards_walls(const PieceSet& set, const PieceSet::Piece& piece, const glm::dvec3& view) {
-  glm::dmat3 scatter(0.0);  // of the walls' unit directions across the view, by area
-  double walls = 0.0, total = 0.0;
-  for (std::size_t f = 0; f < piece.triangles.size(); ++f) {
-    if (!piece.inside[f]) continue;
-    const glm::dvec3 n = face_normal(set, piece.triangles[f]);
-    const double area = glm::length(n);
-    total += area;
-    const glm::dvec3 across = n - glm::dot(n, view) * view;
-    if (!(glm::dot(n, view) < 0.5 * area) || !(glm::length(across) > 0.0)) continue;
-    const glm::dvec3 u = glm::normalize(across);
-    scatter += area * glm::outerProduct(u, u), walls += area;
-  }
-  if (!(walls > kSideShare * total)) return view;
-  const glm::dvec3 any = std::abs(view.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-  glm::dvec3 d = glm::normalize(glm::cross(view, any));
-  for (int i = 0; i < 32; ++i) d = glm::normalize(scatter * d + 1e-12 * d);  // the walls' main direction
-  double facing = 0.0;  // wall area that faces d less that facing -d
-  for (std::size_t f = 0; f < piece.triangles.size(); ++f) {
-    const glm::dvec3 n = piece.inside[f] ? face_normal(set, piece.triangles[f]) : glm::dvec3(0.0);
-    if (glm::dot(n, view) < 0.5 * glm::length(n)) facing += glm::dot(n, d) > 0.0 ? glm::length(n) : -glm::length(n);
-  }
-  if (facing < 0.0) d = -d;
-  return glm::normalize(std::cos(kSideTurn) * view + std::sin(kSideTurn) * d);
-}
-
 // The views of a piece: the direction its fracture faces look on average, and, when that shows
 // too little of them (a piece with fracture faces on opposite sides), the mean of the rest.
 std::vector<glm::dvec3> piece_views(const PieceSet& set, const PieceSet::Piece& piece) {
@@ -91,7 +59,12 @@ std::vector<glm::dvec3> piece_views(const PieceSet& set, const PieceSet::Piece& 
     if (glm::dot(n, first) > 0.0) seen += glm::length(n);
     else rest += n;
   }
-  if (seen >= kSeenEnough * total || !(glm::length(rest) > 0.0)) return {towards_walls(set, piece, first)};
+  if (seen >= kSeenEnough * total || !(glm::length(rest) > 0.0)) {
+    std::vector<glm::dvec3> normals;
+    for (std::size_t f = 0; f < piece.triangles.size(); ++f)
+      if (piece.inside[f]) normals.push_back(face_normal(set, piece.triangles[f]));
+    return {towards_walls(normals, first)};
+  }
   return {first, glm::normalize(rest)};
 }
 

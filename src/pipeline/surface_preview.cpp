@@ -39,6 +39,33 @@ glm::vec3 StrengthRamp::at(const glm::dvec3& p) const {
   return strength_color(range_ > 0.0 ? (sample_trilinear(zeta_, p) - lo_) / range_ : 0.5);
 }
 
+glm::dvec3 towards_walls(const std::vector<glm::dvec3>& normals, const glm::dvec3& view) {
+  constexpr double kFewest = 0.05, kMost = 0.3, kFacing = 0.75, kTurn = 0.6;
+  glm::dmat3 scatter(0.0);  // of the walls' unit directions across the view, by area
+  double walls = 0.0, total = 0.0, facing_view = 0.0, largest = 0.0;
+  glm::dvec3 d(0.0);
+  for (const glm::dvec3& n : normals) {
+    const double area = glm::length(n);
+    const glm::dvec3 across = n - glm::dot(n, view) * view;
+    total += area, facing_view += std::abs(glm::dot(n, view));
+    if (!(std::abs(glm::dot(n, view)) < 0.5 * area) || !(glm::length(across) > 0.0)) continue;
+    const glm::dvec3 u = glm::normalize(across);
+    scatter += area * glm::outerProduct(u, u), walls += area;
+    if (area > largest) largest = area, d = u;
+  }
+  // No steps, or no one face that the view looks at (a surface of many directions, seen from
+  // the best compromise already).
+  if (!(walls > kFewest * total) || walls > kMost * total || facing_view < kFacing * total) return view;
+  // The walls' main direction, by power iteration from the largest wall's (which is not
+  // orthogonal to it: its own term alone keeps it off).
+  for (int i = 0; i < 32; ++i) d = glm::normalize(scatter * d);
+  double facing = 0.0;  // wall area that faces d less that facing -d
+  for (const glm::dvec3& n : normals)
+    if (std::abs(glm::dot(n, view)) < 0.5 * glm::length(n)) facing += glm::dot(n, d) > 0.0 ? glm::length(n) : -glm::length(n);
+  if (facing < 0.0) d = -d;
+  return glm::normalize(std::cos(kTurn) * view + std::sin(kTurn) * d);
+}
+
 namespace {
 
 // Of the candidate directions, the one along which the surface's projected area is largest
@@ -70,7 +97,10 @@ Image preview_strength_surface(const FractureSurface& s, const Grid3& zeta, int 
   RenderOptions ro;
   ro.width = width;
   ro.height = height;
-  const glm::dvec3 view = widest_view(m);
+  std::vector<glm::dvec3> normals;
+  for (const auto& t : m.triangles)
+    normals.push_back(0.5 * glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]));
+  const glm::dvec3 view = towards_walls(normals, widest_view(m));
   ro.view_direction = -view;
   ro.up = std::abs(view.y) > 0.9 ? glm::dvec3(0.0, 0.0, 1.0) : glm::dvec3(0.0, 1.0, 0.0);
   ro.light_direction = glm::normalize(-view + glm::dvec3(0.3, -0.5, 0.2));

@@ -25,9 +25,16 @@ class StrengthRamp {
   double lo_ = 0.0, range_ = 0.0;
 };
 
+/// `view` (unit), turned 0.6 rad towards the side that most of the walls face when walls are
+/// 5% to 30% of the area: faces turned over 60 degrees from `view`, which would be seen edge-on
+/// (the steps of a splintered break), and the faces look at the view on the whole (the mean
+/// |cos| of their angle to it, by area, is 0.75 or more). `normals`: the faces' normals, each as long
+/// as its face's area.
+glm::dvec3 towards_walls(const std::vector<glm::dvec3>& normals, const glm::dvec3& view);
+
 /// The fracture surface alone, each face coloured by ζ at its centroid, seen along the candidate
-/// direction (the 3 axes and the 4 diagonals, both ways) in which its projected area is largest.
-/// `width` × `height` pixels.
+/// direction (the 3 axes and the 4 diagonals, both ways) in which its projected area is largest,
+/// turned towards its walls (towards_walls). `width` × `height` pixels.
 Image preview_strength_surface(const FractureSurface& s, const Grid3& zeta, int width = 1600, int height = 1000);
 
 }  // namespace fracref
