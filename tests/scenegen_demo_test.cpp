@@ -274,6 +274,13 @@ TEST(ScenegenDemo, Branch) {
   EXPECT_EQ(d.scene.refine.tau, 4e-8);
   EXPECT_EQ(d.scene.refine.delta, 5e-5);
   ASSERT_FALSE(d.scene.fracture.cracks.empty());
+  // The cut splinters: its faces reach well off the middle along the axis, and walls along the
+  // axis join the steps (the cross-section's 60 faces across it are checked in check_demo).
+  double lowest = 0.0, highest = 0.0;
+  for (const glm::vec4& p : d.model.surface.positions)
+    lowest = std::min(lowest, double(p.z)), highest = std::max(highest, double(p.z));
+  EXPECT_GT(highest - lowest, 1.0);
+  EXPECT_GE(d.model.surface.faces.size(), faces_across_z(d.model.surface) + 40);
   // One labelled piece and an incomplete crack, which virtual fracture completes into two pieces.
   EXPECT_EQ(d.model.piece_count, 2);
   EXPECT_GT(d.model.virtual_faces_added, 0u);
