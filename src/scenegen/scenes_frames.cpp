@@ -47,8 +47,9 @@ glm::dvec3 bend(const glm::dvec3& x, double kappa) {
 constexpr int kSnap = 20;              // the frame the branch snaps at
 constexpr double kBranchLength = 4.0;  // the paper's 32 x 32 x 64 grid has cubic cells on a 2 x 2 x 4 box
 
-// Bends until the snap, then the halves (groups 0: z < 0, 1: z > 0) turn apart about the crack
-// front; the uncut fibres below it (group -1, shared) hold them together, as in a green branch.
+// Bends until the snap, then the halves (groups 0 and 1: below and above the splintered cut)
+// turn apart about the crack front; the uncut fibres below it (group -1, shared) hold them
+// together, as in a green branch.
 Motion branch_motion(double front, double open_angle) {
   const double kappa = 20.0 * kDegree / (0.5 * kBranchLength);  // the ends turn by 20 degrees
   return [=](const glm::dvec3& x, int group, int f) {
