@@ -103,10 +103,11 @@ Columns find_columns(const TetSet& set, int layers) {
 
 // Per column, how far from the middle (in layers, signed) its fibres pull out: the reach times
 // the tension (0 where the column reaches down to the hinge, 1 at the far side) times the
-// strength ζ at the middle, since
-// strong fibres are the ones that pull out of the weaker wood around them rather than snap
-// where they are bent most. Splinters on the side of x > 0 (x < 0 when `flip`) stay with the
-// lower half, those on the other side with the upper one.
+// strength ζ at the middle, since strong fibres are the ones that pull out of the weaker wood
+// around them rather than snap where they are bent most. The tension is taken at the column's
+// lowest corner: near the hinge the halves hardly open, and a step there would let the refined
+// pieces overlap. Splinters on the side of x > 0 (x < 0 when `flip`) stay with the lower half,
+// those on the other side with the upper one.
 std::vector<int> wanted_heights(const Columns& c, const CrackCost& weakness, const SplinterOptions& o, double z) {
   std::vector<int> wanted(c.centre.size(), 0);
   for (std::size_t i = 0; i < c.centre.size(); ++i) {
