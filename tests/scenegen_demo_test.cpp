@@ -302,6 +302,7 @@ TEST(ScenegenDemo, Wall) {
   // cells) and one pyramid level, so that its thin weak interfaces survive.
   EXPECT_EQ(d.scene.refine.tau, 2.5e-8);
   EXPECT_EQ(d.scene.refine.delta, 9e-4);
+  EXPECT_EQ(d.scene.refine.tolerance, 2e-4);
   EXPECT_EQ(d.scene.field.padding, 0.0);
   EXPECT_EQ(d.scene.pyramid.levels, 1);
   ASSERT_EQ(d.scene.animation.kind, AnimationKind::rigid);

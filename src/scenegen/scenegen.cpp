@@ -47,7 +47,7 @@ constexpr SceneText kScenes[] = {
      "The paper's collapsing wall: a wrecking ball knocks pieces out of a brick wall, whose coarse mesh follows "
      "its bricks, refined in a 150x50x10 brick field over the wall's own box, one pyramid level (paper: 204 -> 208K "
      "triangles).",
-     "brick", {150, 50, 10}, 2.5e-8, 9e-4, 1e-4, true, 1},
+     "brick", {150, 50, 10}, 2.5e-8, 9e-4, 2e-4, true, 1},
     {"clay", "twisted plastic clay",
      "The paper's plastic clay: large twisting, plastic deformation before it tears, refined in a 32x64x64 fBm field "
      "(paper: 510 -> 40K triangles).",
