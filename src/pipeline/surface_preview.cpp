@@ -60,8 +60,10 @@ glm::dvec3 towards_walls(const std::vector<glm::dvec3>& normals, const glm::dvec
   // orthogonal to it: its own term alone keeps it off).
   for (int i = 0; i < 32; ++i) d = glm::normalize(scatter * d);
   double facing = 0.0;  // wall area that faces d less that facing -d
-  for (const glm::dvec3& n : normals)
-    if (std::abs(glm::dot(n, view)) < 0.5 * glm::length(n)) facing += glm::dot(n, d) > 0.0 ? glm::length(n) : -glm::length(n);
+  for (const glm::dvec3& n : normals) {
+    const double area = glm::length(n);
+    if (std::abs(glm::dot(n, view)) < 0.5 * area) facing += glm::dot(n, d) > 0.0 ? area : -area;
+  }
   if (facing < 0.0) d = -d;
   return glm::normalize(std::cos(kTurn) * view + std::sin(kTurn) * d);
 }

@@ -28,8 +28,8 @@ class StrengthRamp {
 /// `view` (unit), turned 0.6 rad towards the side that most of the walls face when walls are
 /// 5% to 30% of the area: faces turned over 60 degrees from `view`, which would be seen edge-on
 /// (the steps of a splintered break), and the faces look at the view on the whole (the mean
-/// |cos| of their angle to it, by area, is 0.75 or more). `normals`: the faces' normals, each as long
-/// as its face's area.
+/// |cos| of their angle to it, by area, is 0.75 or more). `normals`: the faces' normals, each as
+/// long as its face's area.
 glm::dvec3 towards_walls(const std::vector<glm::dvec3>& normals, const glm::dvec3& view);
 
 /// The fracture surface alone, each face coloured by ζ at its centroid, seen along the candidate
