@@ -19,8 +19,8 @@ constexpr double kFront = -0.3;
 
 TetSet branch_tets() { return cylinder_tets(1.0, 4.0, {1, 8, 14, 16}, kLayers); }
 
-CrackCost uniform(double zeta) {
-  return [zeta](const glm::dvec3&) { return 1.0 / (zeta + kCostFloor); };
+Strength uniform(double zeta) {
+  return [zeta](const glm::dvec3&) { return zeta; };
 }
 
 /// The smallest separation rate over the cut's faces: the motion of side 0 turned by -a about
@@ -120,7 +120,7 @@ TEST(ScenegenSplinter, StrongFibresPullOutFarther) {
   const TetSet set = branch_tets();
   SplinterOptions options;
   options.front = kFront;
-  const CrackCost strong_right = [](const glm::dvec3& p) { return 1.0 / ((p.x > 0.0 ? 0.9 : 0.3) + kCostFloor); };
+  const Strength strong_right = [](const glm::dvec3& p) { return p.x > 0.0 ? 0.9 : 0.3; };
   const SplinterCut cut = splinter_cut(set, kLayers, strong_right, options);
   int right = 0, left = 0;
   for (std::size_t i = 0; i < cut.height.size(); ++i) {
@@ -137,7 +137,7 @@ TEST(ScenegenSplinter, TheBranchMaterialSplintersTheCut) {
   SplinterOptions options;
   options.front = kFront;
   const SplinterCut cut =
-      splinter_cut(set, kLayers, weakness_cost("branch", 1, {-1.0, -1.0, -2.0}, {1.0, 1.0, 2.0}), options);
+      splinter_cut(set, kLayers, material_strength("branch", 1, {-1.0, -1.0, -2.0}, {1.0, 1.0, 2.0}), options);
   EXPECT_GE(least_opening(set, cut), -1e-12);
   EXPECT_EQ(sides_manifold(set, cut), "");
   EXPECT_GE(most_layers(cut), 3);

@@ -67,14 +67,21 @@ std::vector<int> geodesic_labels(const TetSet& set, const TetFaces& faces, const
   return labels;
 }
 
-CrackCost weakness_cost(const std::string& field_type, std::uint64_t seed, const glm::dvec3& lo, const glm::dvec3& hi) {
+Strength material_strength(const std::string& field_type, std::uint64_t seed, const glm::dvec3& lo,
+                           const glm::dvec3& hi) {
   FieldSpec spec;
   spec.type = field_type;
   spec.seed = seed;
   spec.object_min = lo, spec.object_max = hi;
   validate_field_spec(spec);
   auto noise = std::make_shared<PerlinNoise>(seed);
-  return [spec, noise](const glm::dvec3& p) { return 1.0 / (strength_at(spec, *noise, p) + kCostFloor); };
+  return [spec, noise](const glm::dvec3& p) { return strength_at(spec, *noise, p); };
+}
+
+CrackCost weakness_cost(const std::string& field_type, std::uint64_t seed, const glm::dvec3& lo, const glm::dvec3& hi) {
+  return [zeta = material_strength(field_type, seed, lo, hi)](const glm::dvec3& p) {
+    return 1.0 / (zeta(p) + kCostFloor);
+  };
 }
 
 }  // namespace fracref::scenegen_detail

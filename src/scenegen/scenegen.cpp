@@ -90,10 +90,14 @@ Json scene_json(const SceneSetup& setup, const Json& animation, const std::strin
   return j;
 }
 
-CrackCost demo_weakness(const SceneSetup& setup, const glm::dvec3& lo, const glm::dvec3& hi) {
+Strength demo_strength(const SceneSetup& setup, const glm::dvec3& lo, const glm::dvec3& hi) {
   for (const SceneText& t : kScenes)
-    if (setup.name == t.name) return weakness_cost(t.field, setup.seed, lo, hi);
+    if (setup.name == t.name) return material_strength(t.field, setup.seed, lo, hi);
   throw RunError("scenegen: no demo scene '" + setup.name + "'");
+}
+
+CrackCost demo_weakness(const SceneSetup& setup, const glm::dvec3& lo, const glm::dvec3& hi) {
+  return [zeta = demo_strength(setup, lo, hi)](const glm::dvec3& p) { return 1.0 / (zeta(p) + kCostFloor); };
 }
 
 PieceLayout piece_layout(TetSet set, const LayoutGoal& goal, Rng& rng,

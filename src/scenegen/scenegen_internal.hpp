@@ -121,11 +121,19 @@ std::vector<int> voronoi_labels(const TetSet& set, const std::vector<glm::dvec3>
 /// How costly it is, per unit length, for a coarse crack's pieces to grow through a point.
 using CrackCost = std::function<double(const glm::dvec3&)>;
 
+/// The strength ζ in [0, 1] of a material at a point.
+using Strength = std::function<double(const glm::dvec3&)>;
+
+/// ζ of the demo material `field_type` (default parameters, `seed`) on the object box [lo, hi]:
+/// the material the refiner reads from the same scene.
+/// \throw InputError as validate_field_spec().
+Strength material_strength(const std::string& field_type, std::uint64_t seed, const glm::dvec3& lo,
+                           const glm::dvec3& hi);
+
 /// Added to ζ in weakness_cost, so that a point of ζ = 0 costs finitely much.
 inline constexpr double kCostFloor = 0.05;
 
-/// 1 / (ζ + kCostFloor) for the demo material `field_type` (default parameters, `seed`) on the
-/// object box [lo, hi]: the material the refiner reads from the same scene.
+/// 1 / (ζ + kCostFloor) for material_strength(field_type, seed, lo, hi).
 /// \throw InputError as validate_field_spec().
 CrackCost weakness_cost(const std::string& field_type, std::uint64_t seed, const glm::dvec3& lo, const glm::dvec3& hi);
 
@@ -160,8 +168,8 @@ struct SplinterOptions {
 /// bending would leave it: on the tension side (away from the hinge, the line y = front, z = 0)
 /// fibres pull out of the other half as splinters. Each column of tets (a disc triangle) wants
 /// to break reach × tension × ζ layers from the middle (tension: 0 where the column reaches
-/// down to the hinge, 1 at the far side; ζ from `weakness` = 1 / (ζ + kCostFloor), at the middle), towards the upper half on
-/// one side of x = 0 and the lower half on the other (`flip`). The columns then grow from a
+/// down to the hinge, 1 at the far side; ζ from `strength`, at the middle), towards the upper
+/// half on one side of x = 0 and the lower half on the other (`flip`). The columns then grow from a
 /// flat cut towards what they want, farthest from the hinge first, each as far as it may
 /// beside its neighbours, so that the opening (the sides turning apart about the hinge line)
 /// pulls every step wall apart or slides it, never closes it (correct by construction):
@@ -171,9 +179,9 @@ struct SplinterOptions {
 /// the middle wherever either side's tets would pinch along a vertical edge (more than one run
 /// of a side about it at some layer), and wherever that breaks a wall rule, until both hold, so
 /// both sides are 2-manifold solids. Deterministic.
-/// \pre set = cylinder_tets(options.radius, ..., layers) with layers even and `weakness` > 0.
+/// \pre set = cylinder_tets(options.radius, ..., layers) with layers even.
 /// \throw RunError when set is not such a set.
-SplinterCut splinter_cut(const TetSet& set, int layers, const CrackCost& weakness, const SplinterOptions& options);
+SplinterCut splinter_cut(const TetSet& set, int layers, const Strength& strength, const SplinterOptions& options);
 
 /// Makes the labels a clean piece layout, renumbered 0, 1, ... by lowest tet: every label's tets
 /// face-connected (parts get labels of their own; parts of fewer than `min_tets` tets join the

@@ -47,8 +47,12 @@ struct LayoutGoal {
   int cell_tets = 1;  ///< 6 keeps a box_lattice's cells whole (whole_cells)
 };
 
-/// weakness_cost of the demo's own material (its field type, default parameters, the setup's
-/// seed) on the object box [lo, hi].
+/// material_strength of the demo's own material (its field type, default parameters, the
+/// setup's seed) on the object box [lo, hi].
+/// \throw RunError when setup.name is no demo.
+Strength demo_strength(const SceneSetup& setup, const glm::dvec3& lo, const glm::dvec3& hi);
+
+/// 1 / (ζ + kCostFloor) of demo_strength: the crossing cost of weakness_cost.
 CrackCost demo_weakness(const SceneSetup& setup, const glm::dvec3& lo, const glm::dvec3& hi);
 
 /// best_layout on `set` with sites spread by `spacing` (local piece size, 1 = uniform); with

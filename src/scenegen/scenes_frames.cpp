@@ -127,7 +127,7 @@ Json make_branch(const SceneSetup& setup) {
   SplinterOptions options;
   options.front = front;
   options.flip = rng.uniform() < 0.5;
-  const SplinterCut crack = splinter_cut(set, kLayers, demo_weakness(setup, lo, hi), options);
+  const SplinterCut crack = splinter_cut(set, kLayers, demo_strength(setup, lo, hi), options);
   const Duplication dup = duplicate_vertices(set, crack.side, {1000, kSnap}, crack.opens);
   write_medit(setup.folder / "branch_coarse.mesh", set, std::vector<int>(set.tets.size(), 0));
   write_faces(setup.folder / "branch_cracks.txt", crack.faces,

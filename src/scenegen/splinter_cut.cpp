@@ -108,11 +108,11 @@ Columns find_columns(const TetSet& set, int layers) {
 // lowest corner: near the hinge the halves hardly open, and a step there would let the refined
 // pieces overlap. Splinters on the side of x > 0 (x < 0 when `flip`) stay with the lower half,
 // those on the other side with the upper one.
-std::vector<int> wanted_heights(const Columns& c, const CrackCost& weakness, const SplinterOptions& o, double z) {
+std::vector<int> wanted_heights(const Columns& c, const Strength& strength, const SplinterOptions& o, double z) {
   std::vector<int> wanted(c.centre.size(), 0);
   for (std::size_t i = 0; i < c.centre.size(); ++i) {
     const double tension = std::max(0.0, (c.lowest[i] - o.front) / (o.radius - o.front));
-    const double zeta = 1.0 / weakness(glm::dvec3(c.centre[i], z)) - kCostFloor;
+    const double zeta = strength(glm::dvec3(c.centre[i], z));
     const int sign = (c.centre[i].x > 0.0) != o.flip ? 1 : -1;
     wanted[i] = sign * int(std::lround(o.reach * tension * zeta));
   }
@@ -220,11 +220,11 @@ std::vector<int> grow_splinters(const Columns& c, const std::vector<int>& wanted
 
 }  // namespace
 
-SplinterCut splinter_cut(const TetSet& set, int layers, const CrackCost& weakness, const SplinterOptions& options) {
+SplinterCut splinter_cut(const TetSet& set, int layers, const Strength& strength, const SplinterOptions& options) {
   const Columns columns = find_columns(set, layers);
   SplinterCut cut;
   const double middle = 0.5 * (set.positions.front().z + set.positions.back().z);
-  std::vector<int> wanted = wanted_heights(columns, weakness, options, middle);
+  std::vector<int> wanted = wanted_heights(columns, strength, options, middle);
   for (int& h : wanted) h = std::clamp(h, 1 - layers / 2, layers / 2 - 1);
   cut.height = grow_splinters(columns, wanted, options.min_wall_slope);
   // Bringing a column back for one rule can break the other; every round only brings columns
