@@ -70,17 +70,16 @@ glm::dvec3 towards_walls(const std::vector<glm::dvec3>& normals, const glm::dvec
 
 namespace {
 
-// Of the candidate directions, the one along which the surface's projected area is largest
+// Of the candidate directions, the one along which the faces (`normals`, as long as their areas) project largest
 // (faces seen from both sides count once each); the first on ties.
-glm::dvec3 widest_view(const PreviewMesh& m) {
+glm::dvec3 widest_view(const std::vector<glm::dvec3>& normals) {
   const glm::dvec3 candidates[] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}, {-1, 1, 1}, {1, -1, 1}, {1, 1, -1}};
   glm::dvec3 best = candidates[0];
   double best_area = -1.0;
   for (const glm::dvec3& c : candidates) {
     const glm::dvec3 v = glm::normalize(c);
     double area = 0.0;
-    for (const auto& t : m.triangles)
-      area += std::abs(glm::dot(glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]), v));
+    for (const glm::dvec3& n : normals) area += std::abs(glm::dot(n, v));
     if (area > best_area) best_area = area, best = v;
   }
   return best;
@@ -102,7 +101,7 @@ Image preview_strength_surface(const FractureSurface& s, const Grid3& zeta, int 
   std::vector<glm::dvec3> normals;
   for (const auto& t : m.triangles)
     normals.push_back(0.5 * glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]));
-  const glm::dvec3 view = towards_walls(normals, widest_view(m));
+  const glm::dvec3 view = towards_walls(normals, widest_view(normals));
   ro.view_direction = -view;
   ro.up = std::abs(view.y) > 0.9 ? glm::dvec3(0.0, 0.0, 1.0) : glm::dvec3(0.0, 1.0, 0.0);
   ro.light_direction = glm::normalize(-view + glm::dvec3(0.3, -0.5, 0.2));
