@@ -179,11 +179,17 @@ TEST(CliRefine, DemoListAndUnknownScene) {
 // grid and five pyramid levels the interfaces were lost, and the rise was 18%, as in a field of
 // constant strength the cracks took the same shape.
 TEST(CliRefine, DemoWallCracksMoveIntoTheInterfaces) {
+  // The coarse cracks run in the middle of the mortar joints, between the two weak interfaces;
+  // the refined ones move into them (issue 28's line: 1.5 times, and half the area). Coarser
+  // thresholds than the demo's (13K triangles instead of 190K) for the test's time; the demo
+  // itself gives 0.05 -> 0.59.
   TempDir t;
-  auto r = run("demo wall -o " + (t.path / "wall").string() + " --backend cpu --stop-after refine -q");
+  auto r = run("demo wall -o " + (t.path / "wall").string() +
+               " --backend cpu --stop-after refine -q --set refine.tau=4e-6 --set refine.delta=0.004");
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json weak = nlohmann::json::parse(slurp(t.path / "wall" / "report.json"))["quality"]["weak_fraction"];
-  EXPECT_GT(weak["refined"].get<double>(), 1.35 * weak["coarse"].get<double>()) << weak.dump();
+  EXPECT_GT(weak["refined"].get<double>(), 1.5 * weak["coarse"].get<double>()) << weak.dump();
+  EXPECT_GT(weak["refined"].get<double>(), 0.5) << weak.dump();
 }
 
 TEST(CliRefine, DemoWallRefinesIntoAValidSurface) {

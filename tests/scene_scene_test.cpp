@@ -61,7 +61,7 @@ const char* kComplete = R"({
   "pyramid": {"levels": 6, "sigma": 1.5},
   "refine": {"tau": 0.003, "delta": 0.005, "step": 0.01, "tolerance": 1e-6, "max_iterations": 0,
              "max_triangles": 1000, "seed": 42, "min_angle": 0, "collisions": false,
-             "rim_motion": true},
+             "rim_motion": true, "tangential_motion": false},
   "output": {"ply": false, "obj": true, "glb": false, "frames": false, "frames_format": "obj", "preview": false, "preview_frames": 12}
 })";
 
@@ -103,6 +103,7 @@ TEST(ParseScene, CompleteSceneHasExactValues) {
   EXPECT_EQ(s.refine.min_angle, 0.0);
   EXPECT_FALSE(s.refine.collisions);
   EXPECT_TRUE(s.refine.rim_motion);
+  EXPECT_FALSE(s.refine.tangential_motion);
   EXPECT_FALSE(s.output.ply);
   EXPECT_TRUE(s.output.obj);
   EXPECT_FALSE(s.output.glb);
@@ -141,6 +142,7 @@ TEST(ParseScene, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(s.refine.min_angle, 20.0);
   EXPECT_TRUE(s.refine.collisions);
   EXPECT_FALSE(s.refine.rim_motion);
+  EXPECT_TRUE(s.refine.tangential_motion);
   EXPECT_TRUE(s.output.ply && s.output.obj && s.output.glb && s.output.preview);
   EXPECT_FALSE(s.output.frames);  // frames/ only on request
   EXPECT_EQ(s.output.frames_format, "bin");

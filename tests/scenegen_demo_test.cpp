@@ -297,10 +297,12 @@ TEST(ScenegenDemo, Wall) {
   TempFolder folder("wall");
   const LoadedDemo d = check_demo("wall", {}, folder.path());
   EXPECT_EQ(d.scene.field.type, FieldType::brick);
-  EXPECT_EQ(d.scene.field.resolution, glm::uvec3(150, 50, 10));
-  // Split thresholds toward the paper's count; the grid over the wall's own box (the paper's
-  // cells) and one pyramid level, so that its thin weak interfaces survive.
-  EXPECT_EQ(d.scene.refine.tau, 2.5e-8);
+  // Twice the paper's grid per axis, over the wall's own box, and one pyramid level, so that the
+  // grid holds its thin weak interfaces; vertices held to their normals, so that they do not
+  // bunch in them; split thresholds toward the paper's count.
+  EXPECT_EQ(d.scene.field.resolution, glm::uvec3(300, 100, 20));
+  EXPECT_FALSE(d.scene.refine.tangential_motion);
+  EXPECT_EQ(d.scene.refine.tau, 1.2e-7);
   EXPECT_EQ(d.scene.refine.delta, 9e-4);
   EXPECT_EQ(d.scene.refine.tolerance, 2e-4);
   EXPECT_EQ(d.scene.field.padding, 0.0);

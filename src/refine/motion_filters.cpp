@@ -29,6 +29,21 @@ std::vector<glm::dvec3> curve_tangents(const FractureSurface& s, EdgeKind kind) 
   return tangent;
 }
 
+// Each vertex's unit normal, the area-weighted mean of its faces' normals; zero where they cancel.
+std::vector<glm::dvec3> vertex_normals(const FractureSurface& s) {
+  std::vector<glm::dvec3> n(s.positions.size(), glm::dvec3(0.0));
+  for (const glm::uvec4& f : s.faces) {
+    const glm::dvec3 a(glm::vec3(s.positions[f.x])), b(glm::vec3(s.positions[f.y])), c(glm::vec3(s.positions[f.z]));
+    const glm::dvec3 twice_area_normal = glm::cross(b - a, c - a);
+    n[f.x] += twice_area_normal, n[f.y] += twice_area_normal, n[f.z] += twice_area_normal;
+  }
+  for (glm::dvec3& v : n) {
+    const double len = glm::length(v);
+    v = len > 0.0 ? v / len : glm::dvec3(0.0);
+  }
+  return n;
+}
+
 glm::dmat3 onto_line(const glm::dvec3& u) { return glm::outerProduct(u, u); }
 glm::dmat3 off_line(const glm::dvec3& u) { return glm::dmat3(1.0) - glm::outerProduct(u, u); }
 
@@ -41,9 +56,15 @@ glm::dmat3 off_line(const glm::dvec3& u) { return glm::dmat3(1.0) - glm::outerPr
 // (along the curve it would bunch the rim into slivers that no flip can repair, as boundary edges
 // are special); one where the rim is not a simple curve slides on B freely. A junction vertex
 // moves across its junction curve.
+// Without options.tangential a sheet's vertex moves along its normal only. E's quadrature takes ψ
+// at the corners, so in a valley of ψ narrower than the triangles E also falls when vertices
+// slide along S into the valley without the surface moving: they bunch there, and the triangles
+// between them become slivers that the flips (near-coplanar only) cannot mend. Held to their
+// normals, they move the surface or stay (issue 28: the wall's brick-mortar interfaces).
 std::vector<glm::dmat3> motion_filters(const FractureSurface& s, const ExteriorSurface& b, const MotionFilterOptions& o) {
   const std::vector<glm::dvec3> rim = curve_tangents(s, kEdgeBoundary), junction = curve_tangents(s, kEdgeNonManifold);
   std::vector<glm::dmat3> out(s.positions.size(), glm::dmat3(1.0));
+  const std::vector<glm::dvec3> normal = o.tangential ? std::vector<glm::dvec3>{} : vertex_normals(s);
   parallel_chunks(out.size(), chunk_count(out.size(), 4096), o.threads, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       const std::uint32_t flags = s.vertex_flags[i];
@@ -56,6 +77,8 @@ std::vector<glm::dmat3> motion_filters(const FractureSurface& s, const ExteriorS
         out[i] = len > 0.5 ? onto_line(across / len) : off_line(nb);
       } else if ((flags & kVertexNonManifold) && junction[i] != glm::dvec3(0.0)) {
         out[i] = off_line(junction[i]);
+      } else if (!o.tangential && !(flags & kVertexNonManifold) && normal[i] != glm::dvec3(0.0)) {
+        out[i] = onto_line(normal[i]);
       }
     }
   });

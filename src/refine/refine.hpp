@@ -37,6 +37,10 @@ struct RefineOptions {
   /// surface meets B and only its splits refine it (the pieces stage cannot yet cut B along a
   /// rim that wandered).
   bool rim_motion = false;
+  /// Let a vertex inside a sheet move along S as well as across it (the full discrete gradient of
+  /// equation 3); off, each moves along its normal only (motion_filters.hpp: for fields whose weak
+  /// valleys are a grid cell or two wide).
+  bool tangential_motion = true;
 };
 
 /// What one iteration did (report.json's `iterations` list).

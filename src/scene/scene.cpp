@@ -160,6 +160,7 @@ RefineSpec read_refine(ObjectReader r) {
   f.min_angle = r.number("min_angle", f.min_angle, Range::half_open(0.0, 60.0));
   f.collisions = r.boolean("collisions", f.collisions);
   f.rim_motion = r.boolean("rim_motion", f.rim_motion);
+  f.tangential_motion = r.boolean("tangential_motion", f.tangential_motion);
   r.finish();
   return f;
 }

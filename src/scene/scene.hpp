@@ -73,6 +73,7 @@ struct RefineSpec {
   double min_angle = 20.0;      ///< degrees, in [0, 60): flip edges of triangles with a smaller angle
   bool collisions = true;       ///< continuous collision handling
   bool rim_motion = false;      ///< the rim (S's boundary on B) slides on B with the flow
+  bool tangential_motion = true;  ///< a vertex inside a sheet moves along S too (else along its normal)
 };
 
 struct OutputSpec {
