@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "field/field_sampler.hpp"
 #include "flow/implicit_step.hpp"
@@ -75,7 +76,7 @@ class Refiner {
                                       const std::vector<float>& clearance) const;
   // Containment splits: lengths in the scene's unit, nothing split below the sample spacing.
   TuckOptions tuck_options() const { return {.scale = o_.scale, .min_edge = o_.delta}; }
-  bool flow_step(double ceiling, IterationStats& st);
+  bool flow_step(double start, double ceiling, IterationStats& st);
   std::size_t refine_step(std::uint32_t iteration, bool propagate, std::size_t& graded);
   SplitRequest bisection(const SplitRequest& r, bool propagate, glm::vec3& start, bool& path_left) const;
   IterationStats iterate(std::uint32_t iteration, double e_before);
@@ -147,10 +148,10 @@ StepGuardOptions Refiner::step_guard_options() const {
 }
 
 // Takes the step when it brings E to at most `ceiling` (backtracking as above) and sets st.energy
-// to the new E; false when no step does, S then unchanged.
+// to the new E; false when no step does, S then unchanged. `start` is E at the current positions.
 // \pre samples_ and velocity_ are those of the current positions (run() evaluates after every
 // edit; each evaluation is a kernel call, with a fixed cost on Vulkan).
-bool Refiner::flow_step(double ceiling, IterationStats& st) {
+bool Refiner::flow_step(double start, double ceiling, IterationStats& st) {
   const double e0 = ceiling;
   const std::vector<glm::dmat3> filter = motion_filters(s_, b_, {.rim_motion = o_.rim_motion, .tangential = o_.tangential_motion, .threads = default_threads()});
   std::vector<glm::dvec3> d(s_.positions.size());
@@ -203,7 +204,11 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
   // Backtracking shortens the constrained, collision-free motion: every vertex then follows the
   // first part of the same straight path, which is collision-free too (boundary vertices are
   // projected back onto B, a deviation of second order in the step).
+  // Where the splits raised E above the ceiling (start > ceiling), a shorter step tends to
+  // `start`, above the ceiling: once halving the step raises E, E is on its way back up there, and
+  // the shorter steps are not tried (they cost a velocity and energy evaluation each).
   float fraction = 1.0f;
+  double last = std::numeric_limits<double>::infinity();
   for (int attempt = 0; attempt <= kBacktracks; ++attempt, fraction *= 0.5f) {
     std::vector<glm::vec4> x1 = x0;
     for (std::size_t i = 0; i < x0.size(); ++i) x1[i] = x0[i] + fraction * (full[i] - x0[i]);
@@ -215,6 +220,8 @@ bool Refiner::flow_step(double ceiling, IterationStats& st) {
     std::vector<glm::vec4> trial(x1.size()), vel(x1.size());
     be_.vertex_velocities(view(), trial, vel);
     const double e1 = surface_energy(view(), trial);
+    if (e1 > e0 && start > e0 && e1 >= last) break;
+    last = e1;
     if (e1 <= e0) {
       st.energy = e1;
       st.dt = dt_ * fraction;
@@ -743,7 +750,7 @@ IterationStats Refiner::attempt(std::uint32_t it, double e_before, bool graded, 
   st.phases.evaluate = seconds_since(t1);
   t1 = Clock::now();
   const double e_now = energy();
-  const bool moved = flow_step(std::min(e_before, e_now), st);
+  const bool moved = flow_step(e_now, std::min(e_before, e_now), st);
   st.phases.flow = seconds_since(t1);
   if (!moved) st.energy = e_now;
   if (!moved && e_now > e_before) {
