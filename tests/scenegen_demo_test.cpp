@@ -397,8 +397,8 @@ TEST(ScenegenDemo, CoarseCracksAvoidStrongMaterial) {
 
 // The wall's coarse mesh follows the bricks as a masonry model's does: every crack face lies
 // in the middle of a mortar joint (a bed joint, or a plane at every half brick across x), and
-// the layout by the material puts most of the vertical crack area in head joints, not through
-// the middle of bricks.
+// the layout keeps every brick whole, so the vertical cracks run in head joints, never through
+// the middle of a brick.
 TEST(ScenegenDemo, WallCracksRunInTheJoints) {
   TempFolder folder("wall_joints");
   const LoadedDemo d = load_demo(generate_demo_scene("wall", folder.path(), {}));
@@ -424,7 +424,8 @@ TEST(ScenegenDemo, WallCracksRunInTheJoints) {
       (on_grid(m.x - size_x - 0.5 * mortar - 0.5 * course * pitch_x, pitch_x) ? head : through) += area;
     }
   }
-  EXPECT_GT(head, 2.0 * through);
+  EXPECT_GT(head, 0.0);
+  EXPECT_EQ(through, 0.0) << "of " << all << " (head joints: " << head << ", slanted: " << slanted << ")";
 }
 
 TEST(ScenegenDemo, Bunny) {

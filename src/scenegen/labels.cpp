@@ -174,6 +174,16 @@ void whole_cells(std::vector<int>& labels, int cell_tets) {
   }
 }
 
+void whole_units(std::vector<int>& labels, int cell_tets, const std::vector<int>& units) {
+  std::map<int, std::map<int, int>> votes;
+  for (std::size_t c = 0; c < units.size(); ++c)
+    for (std::size_t t = c * std::size_t(cell_tets); t < (c + 1) * std::size_t(cell_tets); ++t) ++votes[units[c]][labels[t]];
+  for (std::size_t c = 0; c < units.size(); ++c) {
+    const int label = most_votes(votes[units[c]]);
+    std::fill(labels.begin() + std::ptrdiff_t(c * cell_tets), labels.begin() + std::ptrdiff_t((c + 1) * cell_tets), label);
+  }
+}
+
 void tidy_labels(const TetSet& set, const TetFaces& faces, std::vector<int>& labels, std::size_t min_tets) {
   const VertexTets vt = vertex_tets(set);
   for (int round = 0; round < 1000; ++round) {
@@ -194,13 +204,14 @@ std::size_t cut_face_count(const TetFaces& faces, const std::vector<int>& labels
 
 std::vector<int> best_layout(const TetSet& set, const TetFaces& faces, const std::vector<glm::dvec3>& sites, int k_lo,
                              int k_hi, std::size_t target, std::size_t min_tets, const std::vector<double>& costs,
-                             int cell_tets) {
+                             int cell_tets, const std::vector<int>& units) {
   std::vector<int> best;
   std::size_t best_error = std::numeric_limits<std::size_t>::max();
   for (int k = k_lo; k <= k_hi && k <= int(sites.size()); ++k) {
     const std::vector<glm::dvec3> first(sites.begin(), sites.begin() + k);
     std::vector<int> labels = costs.empty() ? voronoi_labels(set, first) : geodesic_labels(set, faces, first, costs);
     if (cell_tets > 1) whole_cells(labels, cell_tets);
+    if (!units.empty()) whole_units(labels, cell_tets, units);
     tidy_labels(set, faces, labels, min_tets);
     const std::size_t count = cut_face_count(faces, labels);
     const std::size_t error = count > target ? count - target : target - count;

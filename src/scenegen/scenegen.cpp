@@ -115,7 +115,7 @@ PieceLayout piece_layout(TetSet set, const LayoutGoal& goal, Rng& rng,
   const std::vector<glm::dvec3> sites = spread_sites(out.set, goal.k_hi, rng, spacing);
   const std::vector<double> costs = weakness ? crossing_costs(out.set, faces, weakness) : std::vector<double>{};
   out.labels = best_layout(out.set, faces, sites, goal.k_lo, goal.k_hi, goal.target, goal.min_tets, costs,
-                           goal.cell_tets);
+                           goal.cell_tets, goal.units);
   for (const int l : out.labels) out.pieces = std::max(out.pieces, l + 1);
   out.volumes.assign(out.pieces, 0.0);
   out.centroids.assign(out.pieces, glm::dvec3(0.0));

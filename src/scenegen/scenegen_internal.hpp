@@ -196,15 +196,20 @@ void tidy_labels(const TetSet& set, const TetFaces& faces, std::vector<int>& lab
 std::size_t cut_face_count(const TetFaces& faces, const std::vector<int>& labels);
 
 /// Voronoi labels of the first k sites for k in [k_lo, k_hi] (geodesic_labels when `costs` is
-/// not empty), with whole_cells when cell_tets > 1, tidied; the layout whose cut face count is
-/// closest to `target` (ties to the smaller k).
+/// not empty), with whole_cells when cell_tets > 1 and whole_units when `units` is not empty,
+/// tidied; the layout whose cut face count is closest to `target` (ties to the smaller k).
+/// \pre units empty or one per cell of cell_tets tets.
 std::vector<int> best_layout(const TetSet& set, const TetFaces& faces, const std::vector<glm::dvec3>& sites, int k_lo,
                              int k_hi, std::size_t target, std::size_t min_tets, const std::vector<double>& costs = {},
-                             int cell_tets = 1);
+                             int cell_tets = 1, const std::vector<int>& units = {});
 
 /// Gives each run of `cell_tets` consecutive tets (a box_lattice cell: 6 tets) the label most of
 /// them have (ties to the lowest), so that cuts run only on the cells' faces.
 void whole_cells(std::vector<int>& labels, int cell_tets);
+
+/// Gives every tet of the cells (runs of cell_tets tets) of one unit the label most of them have
+/// (ties to the lowest), so that no cut runs inside a unit. \pre units.size() * cell_tets <= labels.size().
+void whole_units(std::vector<int>& labels, int cell_tets, const std::vector<int>& units);
 
 // ------------------------------------------------------------------------------------------------
 // Duplicated vertices (a simulator's last frame), duplicate.cpp

@@ -172,6 +172,24 @@ TetSet brick_lattice(const glm::dvec3& lo, const glm::dvec3& hi) {
   return set;
 }
 
+// The brick each cell of brick_lattice(lo, hi) lies in (its course and its place in the course,
+// numbered), from the centroid of the cell's kCellTets tets: each unit is the cells of one brick.
+std::vector<int> brick_units(const TetSet& set, const glm::dvec3& lo, const glm::dvec3& hi) {
+  constexpr int kCellTets = 6;
+  const BrickParams b;
+  const double diagonal = glm::length(hi - lo);
+  const glm::dvec2 pitch(b.brick_size.x * diagonal + b.mortar * diagonal, b.brick_size.y * diagonal + b.mortar * diagonal);
+  std::vector<int> units(set.tets.size() / kCellTets);
+  for (std::size_t c = 0; c < units.size(); ++c) {
+    glm::dvec3 m(0.0);
+    for (std::uint32_t t = std::uint32_t(c * kCellTets); t < (c + 1) * kCellTets; ++t) m += tet_centroid(set, t) / double(kCellTets);
+    const double course = std::floor((m.y - lo.y) / pitch.y);
+    const double brick = std::floor((m.x - lo.x - course * b.bond_offset * pitch.x) / pitch.x);
+    units[c] = int(course) * 1000 + int(brick) + 500;
+  }
+  return units;
+}
+
 }  // namespace
 
 Json make_wall(const SceneSetup& setup) {
@@ -179,8 +197,10 @@ Json make_wall(const SceneSetup& setup) {
   write_obj(setup.folder / "wall.obj", make_box(lo, hi, {60, 20, 4}), "brick wall 3 x 1 x 0.2, y up");
   Rng rng(setup.seed ^ 0x3a11b41150ull);
   // Small pieces near the impact, large ones far from it, laid out by the material on a lattice
-  // of half bricks whose cells stay whole: the cracks run in the joints, as a masonry model's do.
-  PieceLayout layout = piece_layout(brick_lattice(lo, hi), {204, 8, 20, 6, 6}, rng,
+  // of half bricks whose bricks stay whole: the cracks run in the joints, as a masonry model's do.
+  TetSet lattice = brick_lattice(lo, hi);
+  std::vector<int> bricks = brick_units(lattice, lo, hi);
+  PieceLayout layout = piece_layout(std::move(lattice), {204, 8, 20, 6, 6, std::move(bricks)}, rng,
                                     [](const glm::dvec3& p) { return 0.3 + 0.7 * std::min(1.0, reach(p) / 1.2); },
                                     demo_weakness(setup, lo, hi));
   give_pieces_own_vertices(layout);
