@@ -153,7 +153,8 @@ StepGuardOptions Refiner::step_guard_options() const {
 // edit; each evaluation is a kernel call, with a fixed cost on Vulkan).
 bool Refiner::flow_step(double start, double ceiling, IterationStats& st) {
   const double e0 = ceiling;
-  const std::vector<glm::dmat3> filter = motion_filters(s_, b_, {.rim_motion = o_.rim_motion, .tangential = o_.tangential_motion, .threads = default_threads()});
+  const std::vector<glm::dmat3> filter = motion_filters(
+      s_, b_, {.rim_motion = o_.rim_motion, .tangential = o_.tangential_motion, .threads = default_threads()});
   std::vector<glm::dvec3> d(s_.positions.size());
   for (std::size_t i = 0; i < d.size() && i < last_move_.size(); ++i) d[i] = glm::dvec3(last_move_[i]);
   st.solver_iterations = implicit_step(view(), samples_, velocity_, dt_, filter, d, {.threads = default_threads()}).iterations;
