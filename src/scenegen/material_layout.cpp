@@ -5,6 +5,7 @@
 #include <memory>
 #include <queue>
 #include <string>
+#include <utility>
 
 #include "field/noise.hpp"
 #include "field/procedural.hpp"
@@ -78,10 +79,8 @@ Strength material_strength(const std::string& field_type, std::uint64_t seed, co
   return [spec, noise](const glm::dvec3& p) { return strength_at(spec, *noise, p); };
 }
 
-CrackCost weakness_cost(const std::string& field_type, std::uint64_t seed, const glm::dvec3& lo, const glm::dvec3& hi) {
-  return [zeta = material_strength(field_type, seed, lo, hi)](const glm::dvec3& p) {
-    return 1.0 / (zeta(p) + kCostFloor);
-  };
+CrackCost weakness_cost(Strength zeta) {
+  return [zeta = std::move(zeta)](const glm::dvec3& p) { return 1.0 / (zeta(p) + kCostFloor); };
 }
 
 }  // namespace fracref::scenegen_detail

@@ -104,7 +104,7 @@ Strength demo_strength(const SceneSetup& setup, const glm::dvec3& lo, const glm:
 }
 
 CrackCost demo_weakness(const SceneSetup& setup, const glm::dvec3& lo, const glm::dvec3& hi) {
-  return [zeta = demo_strength(setup, lo, hi)](const glm::dvec3& p) { return 1.0 / (zeta(p) + kCostFloor); };
+  return weakness_cost(demo_strength(setup, lo, hi));
 }
 
 PieceLayout piece_layout(TetSet set, const LayoutGoal& goal, Rng& rng,

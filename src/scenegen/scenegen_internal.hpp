@@ -133,9 +133,8 @@ Strength material_strength(const std::string& field_type, std::uint64_t seed, co
 /// Added to ζ in weakness_cost, so that a point of ζ = 0 costs finitely much.
 inline constexpr double kCostFloor = 0.05;
 
-/// 1 / (ζ + kCostFloor) for material_strength(field_type, seed, lo, hi).
-/// \throw InputError as validate_field_spec().
-CrackCost weakness_cost(const std::string& field_type, std::uint64_t seed, const glm::dvec3& lo, const glm::dvec3& hi);
+/// 1 / (ζ + kCostFloor): weak material is cheap to crack through.
+CrackCost weakness_cost(Strength zeta);
 
 /// Per interior face, the cost of the segment joining its two tets' centroids: its length times
 /// the largest `cost` at eight points along it (the weakest material between the two tets, which

@@ -47,7 +47,7 @@ struct LayoutGoal {
   int cell_tets = 1;  ///< 6 keeps a box_lattice's cells whole (whole_cells)
   /// Per cell (cell_tets tets), the unit it belongs to: the cells of a unit keep one label
   /// (whole_units; the wall's bricks). Empty: no units.
-  std::vector<int> units;
+  std::vector<int> units = {};
 };
 
 /// material_strength of the demo's own material (its field type, default parameters, the

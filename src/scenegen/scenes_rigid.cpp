@@ -143,17 +143,32 @@ Json make_bunny(const SceneSetup& setup, const std::filesystem::path& bunny_obj)
 
 namespace {
 
-// The wall's coarse mesh as a masonry model meshes a wall, unit by unit: a box lattice whose
-// planes lie in the middle of the mortar joints of the demo's brick field (its default
-// parameters), the bed joints across y and, across x, a plane at every half brick, where the
-// head joints of one course or the next lie (courses are offset by half a brick). Planes closer
-// than 0.4 of a pitch to the wall's ends are left out, so no cell is a sliver.
-TetSet brick_lattice(const glm::dvec3& lo, const glm::dvec3& hi) {
+// The demo's brick field (its default parameters) on the wall [lo, hi]: brick size, mortar and
+// pitch in scene units, lengths relative to lo as the material measures them.
+struct WallBricks {
+  glm::dvec3 size;
+  double mortar;
+  glm::dvec2 pitch;
+  double bond_offset;
+};
+
+WallBricks wall_bricks(const glm::dvec3& lo, const glm::dvec3& hi) {
   const BrickParams b;
   const double diagonal = glm::length(hi - lo);
   const glm::dvec3 size = b.brick_size * diagonal;
   const double mortar = b.mortar * diagonal;
-  const glm::dvec2 pitch(size.x + mortar, size.y + mortar);
+  return {size, mortar, glm::dvec2(size.x + mortar, size.y + mortar), b.bond_offset};
+}
+
+// A box_lattice cell's tets (LayoutGoal::cell_tets).
+constexpr int kCellTets = 6;
+
+// The wall's coarse mesh as a masonry model meshes a wall, unit by unit: a box lattice whose
+// planes lie in the middle of the mortar joints of the demo's brick field, the bed joints across
+// y and, across x, a plane at every half brick, where the head joints of one course or the next
+// lie (courses are offset by half a brick). Planes closer than 0.4 of a pitch to the wall's ends
+// are left out, so no cell is a sliver.
+TetSet brick_lattice(const glm::dvec3& lo, const glm::dvec3& hi, const WallBricks& w) {
   const auto planes = [](double first, double step, double length) {
     std::vector<double> p{0.0};
     for (double c = first; c < length - 0.4 * step; c += step)
@@ -161,8 +176,8 @@ TetSet brick_lattice(const glm::dvec3& lo, const glm::dvec3& hi) {
     p.push_back(length);
     return p;
   };
-  const std::vector<double> xs = planes(size.x + 0.5 * mortar - pitch.x, 0.5 * pitch.x, hi.x - lo.x);
-  const std::vector<double> ys = planes(size.y + 0.5 * mortar, pitch.y, hi.y - lo.y);
+  const std::vector<double> xs = planes(w.size.x + 0.5 * w.mortar - w.pitch.x, 0.5 * w.pitch.x, hi.x - lo.x);
+  const std::vector<double> ys = planes(w.size.y + 0.5 * w.mortar, w.pitch.y, hi.y - lo.y);
   TetSet set = box_lattice({lo, hi, {int(xs.size()) - 1, int(ys.size()) - 1, 2}});
   for (glm::dvec3& p : set.positions) {
     const int i = int(std::lround((p.x - lo.x) / (hi.x - lo.x) * double(xs.size() - 1)));
@@ -172,19 +187,16 @@ TetSet brick_lattice(const glm::dvec3& lo, const glm::dvec3& hi) {
   return set;
 }
 
-// The brick each cell of brick_lattice(lo, hi) lies in (its course and its place in the course,
-// numbered), from the centroid of the cell's kCellTets tets: each unit is the cells of one brick.
-std::vector<int> brick_units(const TetSet& set, const glm::dvec3& lo, const glm::dvec3& hi) {
-  constexpr int kCellTets = 6;
-  const BrickParams b;
-  const double diagonal = glm::length(hi - lo);
-  const glm::dvec2 pitch(b.brick_size.x * diagonal + b.mortar * diagonal, b.brick_size.y * diagonal + b.mortar * diagonal);
+// The brick each cell of brick_lattice lies in (its course and its place in the course,
+// numbered), from the centroid of the cell's tets: each unit is the cells of one brick.
+std::vector<int> brick_units(const TetSet& set, const glm::dvec3& lo, const WallBricks& w) {
   std::vector<int> units(set.tets.size() / kCellTets);
   for (std::size_t c = 0; c < units.size(); ++c) {
     glm::dvec3 m(0.0);
-    for (std::uint32_t t = std::uint32_t(c * kCellTets); t < (c + 1) * kCellTets; ++t) m += tet_centroid(set, t) / double(kCellTets);
-    const double course = std::floor((m.y - lo.y) / pitch.y);
-    const double brick = std::floor((m.x - lo.x - course * b.bond_offset * pitch.x) / pitch.x);
+    for (std::uint32_t t = std::uint32_t(c * kCellTets); t < (c + 1) * kCellTets; ++t)
+      m += tet_centroid(set, t) / double(kCellTets);
+    const double course = std::floor((m.y - lo.y) / w.pitch.y);
+    const double brick = std::floor((m.x - lo.x - course * w.bond_offset * w.pitch.x) / w.pitch.x);
     units[c] = int(course) * 1000 + int(brick) + 500;
   }
   return units;
@@ -198,9 +210,10 @@ Json make_wall(const SceneSetup& setup) {
   Rng rng(setup.seed ^ 0x3a11b41150ull);
   // Small pieces near the impact, large ones far from it, laid out by the material on a lattice
   // of half bricks whose bricks stay whole: the cracks run in the joints, as a masonry model's do.
-  TetSet lattice = brick_lattice(lo, hi);
-  std::vector<int> bricks = brick_units(lattice, lo, hi);
-  PieceLayout layout = piece_layout(std::move(lattice), {204, 8, 20, 6, 6, std::move(bricks)}, rng,
+  const WallBricks bricks = wall_bricks(lo, hi);
+  TetSet lattice = brick_lattice(lo, hi, bricks);
+  std::vector<int> units = brick_units(lattice, lo, bricks);
+  PieceLayout layout = piece_layout(std::move(lattice), {204, 8, 20, 6, kCellTets, std::move(units)}, rng,
                                     [](const glm::dvec3& p) { return 0.3 + 0.7 * std::min(1.0, reach(p) / 1.2); },
                                     demo_weakness(setup, lo, hi));
   give_pieces_own_vertices(layout);
