@@ -55,7 +55,7 @@ struct LayoutGoal {
 /// \throw RunError when setup.name is no demo.
 Strength demo_strength(const SceneSetup& setup, const glm::dvec3& lo, const glm::dvec3& hi);
 
-/// 1 / (ζ + kCostFloor) of demo_strength: the crossing cost of weakness_cost.
+/// weakness_cost(demo_strength(setup, lo, hi)): the crossing cost of the demo's own material.
 CrackCost demo_weakness(const SceneSetup& setup, const glm::dvec3& lo, const glm::dvec3& hi);
 
 /// best_layout on `set` with sites spread by `spacing` (local piece size, 1 = uniform); with
