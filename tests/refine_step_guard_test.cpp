@@ -55,5 +55,30 @@ TEST(StepGuard, AFlatFanMovedWithinItsPlaneHoldsNothing) {
   EXPECT_EQ(hold_folding_motion(s, s.positions, x1), 0u);
 }
 
+TEST(StepGuard, TheLineSearchStopsOnlyWhereNoShorterStepLowersTheParabola) {
+  // E(t) − E(0) = a·t + c·t² for a grid of slopes a and curvatures c, judged from t = 1 and 1/2.
+  // Where the rule stops, the parabola must stay positive on (0, 1/2]; where the slope is not
+  // negative and the step rises at both lengths, it must stop.
+  int stops = 0, goes = 0;
+  for (int i = -20; i <= 20; ++i)
+    for (int j = -20; j <= 20; ++j) {
+      const double a = 0.1 * i, c = 0.1 * j;
+      auto rise = [&](double t) { return a * t + c * t * t; };
+      const bool stop = rises_at_first_order(rise(1.0), rise(0.5));
+      if (stop) {
+        ++stops;
+        for (int k = 1; k <= 64; ++k) EXPECT_GT(rise(0.5 * k / 64.0), 0.0) << "a " << a << " c " << c;
+      } else {
+        ++goes;
+        if (a >= 0.0 && rise(1.0) > 0.0 && rise(0.5) > 0.0) ADD_FAILURE() << "a " << a << " c " << c;
+      }
+    }
+  EXPECT_GT(stops, 100);
+  EXPECT_GT(goes, 100);
+  // Convex with a negative slope: E falls near 0 though both lengths rise; the search goes on.
+  EXPECT_FALSE(rises_at_first_order(8.0 - 4.0 * 0.25, 2.0 - 2.0 * 0.25));
+  EXPECT_FALSE(rises_at_first_order(1.0, -0.1));
+}
+
 }  // namespace
 }  // namespace fracref

@@ -207,14 +207,20 @@ bool Refiner::flow_step(double start, double ceiling, IterationStats& st) {
   // projected back onto B, a deviation of second order in the step).
   // Where the splits raised E above the ceiling (start > ceiling), a shorter step tends to
   // `start`, above the ceiling: once halving the step raises E, E is on its way back up there, and
-  // the shorter steps are not tried (they cost a velocity and energy evaluation each).
+  // the shorter steps are not tried (they cost a velocity and energy evaluation each). Nor are
+  // they once two lengths in a row say that E rises along the step at first order
+  // (rises_at_first_order): where ψ's gradient is the pyramid's mean, not the base level's, the
+  // step can point uphill for E, and then no shorter step lowers it.
   float fraction = 1.0f;
   double last = std::numeric_limits<double>::infinity();
+  double rise_before = -1.0;  // E − start at the length before, when it was evaluated
   for (int attempt = 0; attempt <= kBacktracks; ++attempt, fraction *= 0.5f) {
     std::vector<glm::vec4> x1 = x0;
     for (std::size_t i = 0; i < x0.size(); ++i) x1[i] = x0[i] + fraction * (full[i] - x0[i]);
     if (attempt > 0) apply_boundary_constraint(s_, b_, x0, x1);
     if (o_.rim_motion) snap_slid_rim(x1);
+    const double rise_double = rise_before;
+    rise_before = -1.0;
     if (attempt > 0 && (motion_folds(s_, x0, x1, guard) || motion_crosses_stars(s_, x0, x1))) continue;
     if (attempt > 0 && !new_crossings(x0, x1, bound).empty()) continue;
     s_.positions = x1;
@@ -222,7 +228,9 @@ bool Refiner::flow_step(double start, double ceiling, IterationStats& st) {
     be_.vertex_velocities(view(), trial, vel);
     const double e1 = surface_energy(view(), trial);
     if (e1 > e0 && start > e0 && e1 >= last) break;
+    if (e1 > e0 && rises_at_first_order(rise_double, e1 - start)) break;
     last = e1;
+    rise_before = e1 - start;
     if (e1 <= e0) {
       st.energy = e1;
       st.dt = dt_ * fraction;

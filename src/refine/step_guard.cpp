@@ -199,4 +199,8 @@ bool motion_crosses_stars(const FractureSurface& s, const std::vector<glm::vec4>
   return !crossing_stars(s, x0, x1, threads).empty();
 }
 
+bool rises_at_first_order(double rise_double, double rise) {
+  return rise_double > 0.0 && rise > 0.0 && 4.0 * rise >= rise_double;
+}
+
 }  // namespace fracref

@@ -48,4 +48,12 @@ std::size_t hold_star_crossings(const FractureSurface& s, const std::vector<glm:
 bool motion_crosses_stars(const FractureSurface& s, const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
                           int threads = default_threads());
 
+/// The backtracking line search's stop (refine.cpp): whether E rises along a step at first order,
+/// from the rises E − E(0) at twice a length (`rise_double`) and at the length (`rise`). The
+/// parabola through (0, 0) and the two points has the slope (4·rise − rise_double) / (2·length)
+/// at 0; when it is not negative and both rises are positive, the parabola is positive on the
+/// whole of (0, length]: convex, it lies above its tangent at 0; concave, above its chord from
+/// (0, 0) to (length, rise). So no shorter step lowers E, as far as a parabola describes it.
+bool rises_at_first_order(double rise_double, double rise);
+
 }  // namespace fracref
