@@ -2,7 +2,9 @@
 // fracture faces look in opposite directions (no one camera on the pieces in place sees both).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "pieces_test_support.hpp"
 #include "pipeline/job_outputs.hpp"
@@ -52,6 +54,45 @@ TEST(PreviewView, TurnsTowardsTheStepsOfABreakThatFacesTheView) {
   // Half walls (no one face), or faces that all look at the view askew: left as it is.
   EXPECT_EQ(towards_walls({{0, 0, 1}, {1, 0, 0}}, view), view);
   EXPECT_EQ(towards_walls({{0, 0.6, 0.8}, {0, -0.6, 0.8}, {0.1, 0, 0}}, view), view);
+}
+
+// A break through a long, thin wall (6 × 2 × 0.2): treads along the wall's length and risers
+// between them, each across the wall's thickness. Seen from above, where its projected area is
+// largest, it would be a strip across the picture; seen askew, its steps fill the picture.
+FractureSurface wall_staircase() {
+  std::vector<glm::vec4> p;
+  std::vector<glm::uvec4> f;
+  auto quad = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
+    const std::uint32_t n = std::uint32_t(p.size());
+    for (const glm::vec3& q : {a, b, c, d}) p.push_back(glm::vec4(q, 1.0f));
+    f.push_back({n, n + 1, n + 2, 0}), f.push_back({n, n + 2, n + 3, 0});
+  };
+  for (int k = 0; k < 12; ++k) {
+    const float x = float(k % 6) + (k < 6 ? 0.0f : 2.5f), y = 0.3f * float(k % 6);
+    quad({x, y, 0.0f}, {x + 1.0f, y, 0.0f}, {x + 1.0f, y, 0.2f}, {x, y, 0.2f});
+    if (k % 6 < 5) quad({x + 1.0f, y, 0.0f}, {x + 1.0f, y + 0.3f, 0.0f}, {x + 1.0f, y + 0.3f, 0.2f}, {x + 1.0f, y, 0.2f});
+  }
+  return make_fracture_surface(p, f, std::vector<glm::ivec2>(f.size(), glm::ivec2(0, 1)), 2);
+}
+
+TEST(SurfacePreview, ALongThinBreakIsSeenWithItsTreadsAndItsRisers) {
+  Grid3 zeta;  // constant: every face has the same colour, and its shading tells treads from risers
+  zeta.dims = {2, 2, 2}, zeta.origin = glm::dvec3(-1.0), zeta.cell = 10.0;
+  zeta.values.assign(8, 0.5f);
+  const Image im = preview_strength_surface(wall_staircase(), zeta);
+  ASSERT_EQ(im.width, 1600);
+  std::map<std::uint32_t, std::size_t> colours;  // of the pixels off the background (light grey)
+  for (std::size_t i = 0; i + 2 < im.rgb.size(); i += 3)
+    if (im.rgb[i + 2] < 200) ++colours[std::uint32_t(im.rgb[i]) << 16 | std::uint32_t(im.rgb[i + 1]) << 8 | im.rgb[i + 2]];
+  std::vector<std::size_t> counts;
+  for (const auto& [c, n] : colours) counts.push_back(n);
+  std::sort(counts.rbegin(), counts.rend());
+  ASSERT_GE(counts.size(), 2u);
+  // Seen along the wall (most pixels) the treads would be lines, seen from above (the largest
+  // projected area) the risers: the second shade would be only the edges' blends.
+  const std::size_t pixels = std::size_t(im.width) * std::size_t(im.height);
+  EXPECT_GT(counts[0], pixels / 50);
+  EXPECT_GT(counts[1], pixels / 200);
 }
 
 }  // namespace

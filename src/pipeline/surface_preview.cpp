@@ -70,17 +70,45 @@ glm::dvec3 towards_walls(const std::vector<glm::dvec3>& normals, const glm::dvec
 
 namespace {
 
-// Of the candidate directions, the one along which the faces (`normals`, as long as their areas) project largest
-// (faces seen from both sides count once each); the first on ties.
-glm::dvec3 widest_view(const std::vector<glm::dvec3>& normals) {
+// The camera's up hint for a view along `view` (render_preview needs one not along the view).
+glm::dvec3 up_for(const glm::dvec3& view) {
+  return std::abs(view.y) > 0.9 ? glm::dvec3(0.0, 0.0, 1.0) : glm::dvec3(0.0, 1.0, 0.0);
+}
+
+// How well a view along `view` shows the surface: the pixels it covers in a picture a tenth of
+// width × height, fitted to the frame as render_preview fits it, times the fraction of its area
+// (`normals` as long as their faces' areas) that the view does not see edge-on. Its projected
+// area would count sheets behind one another again and again; the pixels alone would pick a
+// view along a wall, where its head joints fill a column and its bed joints are lines.
+double view_score(const PreviewMesh& shape, const std::vector<glm::dvec3>& normals, const glm::dvec3& view, int width,
+                  int height) {
+  constexpr double kEdgeOn = 0.3;  // |cos| of the angle between a face's normal and the view
+  RenderOptions ro;
+  ro.width = std::max(1, width / 10), ro.height = std::max(1, height / 10), ro.supersample = 1;
+  ro.view_direction = -view, ro.up = up_for(view);
+  ro.background = glm::vec3(0.0f);  // the shading lights every face to at least 0.28
+  const Image image = render_preview({shape}, ro);
+  std::size_t covered = 0;
+  for (std::size_t i = 0; i + 2 < image.rgb.size(); i += 3) covered += (image.rgb[i] | image.rgb[i + 1] | image.rgb[i + 2]) != 0;
+  double seen = 0.0, total = 0.0;
+  for (const glm::dvec3& n : normals) {
+    const double area = glm::length(n);
+    total += area;
+    if (std::abs(glm::dot(n, view)) > kEdgeOn * area) seen += area;
+  }
+  return total > 0.0 ? double(covered) * seen / total : 0.0;
+}
+
+// Of the candidate directions, the one with the best view_score; the first on ties.
+glm::dvec3 best_view(const PreviewMesh& m, const std::vector<glm::dvec3>& normals, int width, int height) {
+  const PreviewMesh shape{m.positions, m.triangles, std::vector<glm::vec3>(m.triangles.size(), glm::vec3(1.0f))};
   const glm::dvec3 candidates[] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}, {-1, 1, 1}, {1, -1, 1}, {1, 1, -1}};
   glm::dvec3 best = candidates[0];
-  double best_area = -1.0;
+  double best_score = -1.0;
   for (const glm::dvec3& c : candidates) {
     const glm::dvec3 v = glm::normalize(c);
-    double area = 0.0;
-    for (const glm::dvec3& n : normals) area += std::abs(glm::dot(n, v));
-    if (area > best_area) best_area = area, best = v;
+    const double score = view_score(shape, normals, v, width, height);
+    if (score > best_score) best_score = score, best = v;
   }
   return best;
 }
@@ -101,9 +129,9 @@ Image preview_strength_surface(const FractureSurface& s, const Grid3& zeta, int 
   std::vector<glm::dvec3> normals;
   for (const auto& t : m.triangles)
     normals.push_back(0.5 * glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]));
-  const glm::dvec3 view = towards_walls(normals, widest_view(normals));
+  const glm::dvec3 view = towards_walls(normals, best_view(m, normals, width, height));
   ro.view_direction = -view;
-  ro.up = std::abs(view.y) > 0.9 ? glm::dvec3(0.0, 0.0, 1.0) : glm::dvec3(0.0, 1.0, 0.0);
+  ro.up = up_for(view);
   ro.light_direction = glm::normalize(-view + glm::dvec3(0.3, -0.5, 0.2));
   return render_preview({m}, ro);
 }

@@ -33,8 +33,9 @@ class StrengthRamp {
 glm::dvec3 towards_walls(const std::vector<glm::dvec3>& normals, const glm::dvec3& view);
 
 /// The fracture surface alone, each face coloured by ζ at its centroid, seen along the candidate
-/// direction (the 3 axes and the 4 diagonals, both ways) in which its projected area is largest,
-/// turned towards its walls (towards_walls). `width` × `height` pixels.
+/// direction (the 3 axes and the 4 diagonals, both ways) that shows it best: the most pixels
+/// covered (fitted to the frame) times the fraction of its area not seen edge-on; then turned
+/// towards its walls (towards_walls). `width` × `height` pixels.
 Image preview_strength_surface(const FractureSurface& s, const Grid3& zeta, int width = 1600, int height = 1000);
 
 }  // namespace fracref
