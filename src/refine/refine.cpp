@@ -161,6 +161,11 @@ bool Refiner::flow_step(double start, double ceiling, IterationStats& st) {
   const std::vector<glm::vec4> x0 = s_.positions;
   std::vector<glm::vec4> full = x0;
   for (std::size_t i = 0; i < x0.size(); ++i) full[i] = glm::vec4(glm::vec3(x0[i]) + glm::vec3(d[i]), 1.0f);
+  // A face the contact rule flags at x0 already must not move (new_crossings): its corners stay
+  // in the full step, and so in every shorter one. Held only where the full step leaves it
+  // flagged, a face that the full step frees holds back every shorter step, which still flags it.
+  for (const std::uint32_t f : faces_crossing_exterior(s_, x0, mesh(), rim_, clearance_))
+    for (int k = 0; k < 3; ++k) full[s_.faces[f][k]] = x0[s_.faces[f][k]];
   apply_boundary_constraint(s_, b_, x0, full);
   if (o_.rim_motion) snap_slid_rim(full);
   const StepGuardOptions guard = step_guard_options();
