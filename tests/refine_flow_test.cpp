@@ -68,6 +68,36 @@ std::pair<double, double> off_plane(const FractureSurface& s) {
   return {mean / double(s.positions.size()), most};
 }
 
+// A narrow valley just below the sheet and a broad one above it: the base level pulls the sheet
+// into the narrow one, the pyramid's coarser levels (which ψ's gradient averages in) towards the
+// broad one. Once in the narrow valley, the step points uphill for E and does not move S; the
+// next iteration's splits are then each on its sample's element, not graded (a flow that could
+// not lower E is not expected to pay for splits off the samples).
+TEST(RefineFlow, AfterAStepThatDidNotMoveTheSplitsAreOnTheirSamples) {
+  const FieldGrid4 field = field_on_cube(33, 5, [](const glm::dvec3& p) {
+    const double a = (p.z - 0.47) / 0.03, b = (p.z - 0.75) / 0.12;
+    return 1.0 - 0.5 * std::exp(-a * a) - 0.4 * std::exp(-b * b);
+  });
+  FractureSurface s = sheet(6, 0.5f);
+  const RefineResult r = refine(s, field, 0.02, 0.0005);
+  ASSERT_EQ(validate(s), "");
+  expect_descent_and_convergence(r);
+  ASSERT_GE(r.iterations.size(), 3u);
+  EXPECT_GT(r.iterations[0].max_displacement, 0.01);
+  EXPECT_TRUE(r.iterations[0].graded);
+  bool stalled = false;
+  for (std::size_t k = 1; k < r.iterations.size(); ++k) {
+    const bool moved = r.iterations[k - 1].max_displacement > 0.0;
+    stalled |= !moved;
+    if (moved) {
+      EXPECT_TRUE(r.iterations[k].graded || r.iterations[k].attempts == 2) << "iteration " << k;
+    } else {
+      EXPECT_FALSE(r.iterations[k].graded) << "iteration " << k;
+    }
+  }
+  EXPECT_TRUE(stalled);
+}
+
 }  // namespace
 
 // A planar cut at z = 0.5 in a field whose weak slab lies parallel to it at z = 0.62: the refined

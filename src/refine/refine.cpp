@@ -117,6 +117,7 @@ class Refiner {
   bool budget_reached_ = false;   // a split was refused because it would exceed max_triangles
   std::vector<float> clearance_;  // per vertex, a lower bound of the distance to B (< 0: unknown)
   std::vector<glm::vec3> last_move_;  // per vertex, its motion in the last flow step
+  bool flow_moved_ = true;            // whether the last flow step moved S
 };
 
 // The splits leave old vertices where they were: only the new ones need ψ (for the flips'
@@ -720,21 +721,26 @@ void Refiner::locate_new_rim_vertices() {
 // longest-edge paths of Refiner::bisection), and some of them fall away from the samples, where
 // the step gains nothing to pay for them; when it cannot, the iteration is made again with each
 // split on its sample's own element (as the paper splits), and only when that is undone too does
-// S stay as it was.
+// S stay as it was. After an iteration whose step did not move S (it pointed uphill for E, or
+// every length was refused), the graded splits are not tried: a flow that could not lower E from
+// where it was is not expected to win back what they add (on the wall's converged tail, all of
+// them were undone).
 IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   if (o_.rim_motion) reembed_rim();
   bool undone = false;
-  IterationStats st = attempt(it, e_before, true, undone);
+  IterationStats st = attempt(it, e_before, flow_moved_, undone);
   if (undone) {
     const double seconds = st.seconds;
     st = attempt(it, e_before, false, undone);
     st.seconds += seconds;
+    st.attempts = 2;
   }
   return st;
 }
 
 IterationStats Refiner::attempt(std::uint32_t it, double e_before, bool graded, bool& undone) {
   IterationStats st;
+  st.graded = graded;
   const auto t0 = Clock::now();
   const FractureSurface s_before = s_;
   const std::vector<glm::vec4> samples_before = samples_, velocity_before = velocity_;
@@ -765,6 +771,7 @@ IterationStats Refiner::attempt(std::uint32_t it, double e_before, bool graded, 
   t1 = Clock::now();
   const double e_now = energy();
   const bool moved = flow_step(e_now, std::min(e_before, e_now), st);
+  flow_moved_ = moved;
   st.phases.flow = seconds_since(t1);
   if (!moved) st.energy = e_now;
   if (!moved && e_now > e_before) {

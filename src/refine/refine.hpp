@@ -52,6 +52,10 @@ struct IterationStats {
   std::size_t splits = 0, flips = 0;
   double dt = 0.0;
   int solver_iterations = 0;  ///< conjugate-gradient iterations of the flow step's solve
+  /// Whether the splits kept are the graded ones (longest-edge paths), not each on its sample's
+  /// own element; and how many times the iteration was made (2: its graded splits were undone).
+  bool graded = true;
+  int attempts = 1;
   double seconds = 0.0;  ///< wall-clock time of the iteration (splits, flips, flow step)
   /// Wall-clock seconds of the iteration's parts, in their order: the splits, the flips, the
   /// evaluation of the velocities after them, and the flow step (its collision constraints
