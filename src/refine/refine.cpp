@@ -70,6 +70,7 @@ class Refiner {
   rim::RimOnB slid_rim(const std::vector<glm::vec4>& x) const;
   void snap_slid_rim(std::vector<glm::vec4>& x) const;
   void locate_new_rim_vertices();
+  std::vector<std::uint32_t> flagged_faces(const std::vector<glm::vec4>& x, const std::vector<float>& clearance) const;
   std::vector<std::uint32_t> new_crossings(const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
                                            const std::vector<float>& clearance) const;
   std::size_t hold_exterior_crossings(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1,
@@ -165,7 +166,7 @@ bool Refiner::flow_step(double start, double ceiling, IterationStats& st) {
   // A face the contact rule flags at x0 already must not move (new_crossings): its corners stay
   // in the full step, and so in every shorter one. Held only where the full step leaves it
   // flagged, a face that the full step frees holds back every shorter step, which still flags it.
-  for (const std::uint32_t f : faces_crossing_exterior(s_, x0, mesh(), rim_, clearance_))
+  for (const std::uint32_t f : flagged_faces(x0, clearance_))
     for (int k = 0; k < 3; ++k) full[s_.faces[f][k]] = x0[s_.faces[f][k]];
   apply_boundary_constraint(s_, b_, x0, full);
   if (o_.rim_motion) snap_slid_rim(full);
@@ -606,12 +607,18 @@ void Refiner::conform_boundary() {
   }
 }
 
+// The faces the contact rule (refine/exterior_contact.hpp) flags at positions x, the rim where
+// x puts it.
+std::vector<std::uint32_t> Refiner::flagged_faces(const std::vector<glm::vec4>& x, const std::vector<float>& clearance) const {
+  return o_.rim_motion ? faces_crossing_exterior(s_, x, mesh(), slid_rim(x), clearance)
+                       : faces_crossing_exterior(s_, x, mesh(), rim_, clearance);
+}
+
 // The faces that meet B at x1 other than at their rim points (refine/exterior_contact.hpp) and
 // have a corner that moved from x0.
 std::vector<std::uint32_t> Refiner::new_crossings(const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
                                                   const std::vector<float>& clearance) const {
-  std::vector<std::uint32_t> bad = o_.rim_motion ? faces_crossing_exterior(s_, x1, mesh(), slid_rim(x1), clearance)
-                                                 : faces_crossing_exterior(s_, x1, mesh(), rim_, clearance);
+  std::vector<std::uint32_t> bad = flagged_faces(x1, clearance);
   // A face the rule flags at x0 already (it is conservative where a rim point lies on a concave
   // B edge: the face is inside B but not inside both planes) must not move either: the rule could
   // not tell when it goes through B. So every flagged face with a moved corner counts.

@@ -167,11 +167,9 @@ std::vector<int> voronoi_labels(const TetSet& set, const std::vector<glm::dvec3>
 }
 
 void whole_cells(std::vector<int>& labels, int cell_tets) {
-  for (std::size_t c = 0; c + std::size_t(cell_tets) <= labels.size(); c += std::size_t(cell_tets)) {
-    std::map<int, int> votes;
-    for (std::size_t t = c; t < c + std::size_t(cell_tets); ++t) ++votes[labels[t]];
-    std::fill(labels.begin() + std::ptrdiff_t(c), labels.begin() + std::ptrdiff_t(c) + cell_tets, most_votes(votes));
-  }
+  std::vector<int> own(labels.size() / std::size_t(cell_tets));  // each cell its own unit
+  std::iota(own.begin(), own.end(), 0);
+  whole_units(labels, cell_tets, own);
 }
 
 void whole_units(std::vector<int>& labels, int cell_tets, const std::vector<int>& units) {
