@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -11,6 +12,7 @@
 #include "flow/backend.hpp"
 #include "geom/intersect.hpp"
 #include "refine/flips.hpp"
+#include "refine/junction_order.hpp"
 #include "refine/refine.hpp"
 #include "refine/topology_edit.hpp"
 #include "surface/surface_examples.hpp"
@@ -309,26 +311,59 @@ std::size_t face_intersections(const FractureSurface& m) {
 
 }  // namespace
 
-// A flip moves surface inside its quad; one that would cut through a nearby sheet is skipped.
-// The slim pair of the test above, with two more faces on its outer edge 0-2: one above the
-// plane (edge 0-2 stays regular: the flip is made) and one below (edge 0-2 becomes a junction of
-// three faces: a flip would turn the plane's face on it, so none is made).
-TEST(RefineLoop, QuadsTouchingAJunctionAreNotFlipped) {
+// The slim pair of the test above, with two more faces on its outer edge 0-2: one above the plane
+// (edge 0-2 stays regular) and then one below (edge 0-2 becomes a junction of three faces). The
+// flip turns the plane's face on 0-2 from 1 to 3, both in the plane, so the sheets keep their
+// order around 0-2 and the flip is made either way.
+TEST(RefineLoop, QuadsAtAJunctionFlipWhenTheSheetsKeepTheirOrder) {
   const std::vector<glm::vec4> p = {{0, 0, 0, 1}, {2, 0, 0, 1},      {1, 0.1f, 0, 1},
                                     {1, -1, 0, 1}, {0.5f, 0.5f, 1, 1}, {0.5f, 0.5f, -1, 1}};
   std::vector<glm::uvec4> faces = {{0, 1, 2, 0}, {1, 0, 3, 0}, {0, 2, 4, 0}};
-  std::vector<glm::ivec2> pieces = {{1, 0}, {1, 0}, {2, 0}};
+  // Around 0-2: piece 1 above the plane, 2 beyond the faces to 4 and 5, 0 below the plane.
+  std::vector<glm::ivec2> pieces = {{1, 0}, {1, 0}, {1, 2}};
   const std::vector<glm::vec4> psi(p.size(), glm::vec4(1.0f, 0.0f, 0.0f, 0.0f));
   const ExteriorSurface none;
   FractureSurface regular = make_fracture_surface(p, faces, pieces, 3);
   ASSERT_EQ(regular.edge_special[find_edge(regular, 0, 2)], kEdgeRegular);
   EXPECT_EQ(flip_slim_triangles(regular, psi, none, flip_options(20.0, 5.0)), 1u);
   faces.push_back({2, 0, 5, 0});
-  pieces.push_back({1, 2});
+  pieces.push_back({0, 2});
   FractureSurface junction = make_fracture_surface(p, faces, pieces, 3);
   ASSERT_EQ(junction.edge_special[find_edge(junction, 0, 2)], kEdgeNonManifold);
-  EXPECT_EQ(flip_slim_triangles(junction, psi, none, flip_options(20.0, 5.0)), 0u);
-  EXPECT_NE(find_edge(junction, 0, 1), kNoEdge);
+  ASSERT_EQ(validate(junction), "");
+  EXPECT_EQ(flip_slim_triangles(junction, psi, none, flip_options(20.0, 5.0)), 1u);
+  ASSERT_EQ(validate(junction), "");
+  EXPECT_EQ(find_edge(junction, 0, 1), kNoEdge);
+  EXPECT_NE(find_edge(junction, 2, 3), kNoEdge);
+  EXPECT_EQ(junction.edge_special[find_edge(junction, 0, 2)], kEdgeNonManifold);
+}
+
+// In the T-junction's quad beside the standing sheet, flipping the diagonal turns the face on the
+// junction edge to the quad's other corner. Where that corner lies in the plane the order holds;
+// pulled over the standing sheet (to x < 0, z > 0) the face would pass it, and the flip is refused.
+TEST(RefineLoop, AFlipMayNotTurnAFacePastAnotherSheetAroundAJunction) {
+  FractureSurface s = example_t_junction(1);
+  auto vertex_at = [&](glm::vec3 q) {
+    for (std::uint32_t v = 0; v < s.positions.size(); ++v)
+      if (glm::vec3(s.positions[v]) == q) return v;
+    return std::uint32_t(0xffffffffu);
+  };
+  const std::uint32_t o = vertex_at({0, 0, 0}), j = vertex_at({0, 1, 0});
+  const std::uint32_t c = vertex_at({1, 0, 0}), d = vertex_at({1, 1, 0});
+  ASSERT_TRUE(std::max({o, j, c, d}) != 0xffffffffu);
+  const std::uint32_t g = find_edge(s, o, j);
+  ASSERT_EQ(s.edge_special[g], kEdgeNonManifold);
+  const std::uint32_t e = find_edge(s, o, d) != kNoEdge ? find_edge(s, o, d) : find_edge(s, c, j);
+  glm::uvec2 cd, ff;
+  ASSERT_TRUE(flip_quad(s, e, cd, ff));
+  std::array<std::uint32_t, 4> junctions{};
+  EXPECT_TRUE(flip_keeps_junction_order(s, e, cd, ff, junctions));
+  EXPECT_EQ(junctions, (std::array<std::uint32_t, 4>{g, kNoEdge, kNoEdge, kNoEdge}));
+  // The quad's face on g is ff[side]; after the flip its opposite is cd[1 - side].
+  const int side = (s.face_edges[3 * ff.x] == g || s.face_edges[3 * ff.x + 1] == g || s.face_edges[3 * ff.x + 2] == g) ? 0 : 1;
+  glm::vec4& turned_to = s.positions[cd[1 - side]];
+  turned_to = glm::vec4(-0.5f, turned_to.y, 0.5f, 1.0f);
+  EXPECT_FALSE(flip_keeps_junction_order(s, e, cd, ff, junctions));
 }
 
 TEST(RefineLoop, FlipThatWouldCutAnotherSheetIsSkipped) {

@@ -11,6 +11,7 @@
 #include "util/key_set.hpp"
 #include "util/parallel.hpp"
 
+#include "refine/junction_order.hpp"
 #include "refine/topology_edit.hpp"
 
 namespace fracref {
@@ -64,25 +65,11 @@ bool flip_improves(const Quad& q, const FlipOptions& o) {
   return e_new <= e_old;
 }
 
-// A flip changes which face of the quad lies on each of its four outer edges; at a junction
-// (non-manifold) edge that turns the face around the edge to a new opposite vertex and can fold it
-// past another piece's face, so quads touching a junction are left alone. Both ends of a junction
-// edge are flagged non-manifold: only such edges are looked up.
-bool touches_junction(const FractureSurface& s, glm::uvec2 ab, glm::uvec2 cd) {
-  auto junction_vertex = [&](std::uint32_t v) { return (s.vertex_flags[v] & kVertexNonManifold) != 0; };
-  for (std::uint32_t p : {ab.x, ab.y})
-    for (std::uint32_t q : {cd.x, cd.y}) {
-      if (!junction_vertex(p) || !junction_vertex(q)) continue;
-      std::uint32_t e = find_edge(s, p, q);
-      if (e != kNoEdge && s.edge_special[e] == kEdgeNonManifold) return true;
-    }
-  return false;
-}
-
 // A flip that passes every test that does not depend on the pass's earlier flips.
 struct FlipCandidate {
   std::uint32_t edge;
   glm::uvec2 opposite, faces;
+  std::array<std::uint32_t, 4> junctions;  // the quad's outer junction edges, kNoEdge after them
 };
 
 // Candidates in edge order. Judged on S as the pass found it: a face flipped earlier in the pass
@@ -109,8 +96,10 @@ std::vector<FlipCandidate> candidate_flips(const FractureSurface& s, std::span<c
       const glm::uvec2 ab = s.edges[e];
       const Quad q{x(ab.x), x(ab.y), x(cd.x), x(cd.y), samples[ab.x].x, samples[ab.y].x, samples[cd.x].x, samples[cd.y].x};
       // The edge table's search last: a fifth of the quads get past flip_improves.
-      if (flip_improves(q, o) && find_edge(s, cd.x, cd.y) == kNoEdge && !touches_junction(s, ab, cd))
-        parts[c].push_back({e, cd, ff});
+      std::array<std::uint32_t, 4> junctions{};
+      if (flip_improves(q, o) && find_edge(s, cd.x, cd.y) == kNoEdge &&
+          flip_keeps_junction_order(s, e, cd, ff, junctions))
+        parts[c].push_back({e, cd, ff, junctions});
     }
   });
   std::vector<FlipCandidate> out;
@@ -320,6 +309,9 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
   std::vector<Made> made;
   std::vector<std::int32_t> owner(s.faces.size(), -1);  // face -> index in `made` while flipped
   std::vector<char> used(s.faces.size(), 0);
+  // Junction edges around which a flip of this pass turned a face: each candidate's order was
+  // judged with the other faces where they were, so a second turn about the same edge waits.
+  std::vector<char> turned(s.edges.size(), 0);
   // Edges this pass made (the adjacency is stale), as (smaller id << 32 | larger id): a hash set,
   // as only membership is asked.
   KeySet created(candidates.size());  // keys are never 0: a diagonal joins two distinct vertices
@@ -327,6 +319,8 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
     const auto [lo, hi] = std::minmax(c.opposite.x, c.opposite.y);
     const std::uint64_t diagonal = (std::uint64_t(lo) << 32) | hi;
     if (used[c.faces.x] || used[c.faces.y] || created.contains(diagonal)) continue;
+    if (std::any_of(c.junctions.begin(), c.junctions.end(), [&](std::uint32_t g) { return g != kNoEdge && turned[g]; }))
+      continue;
     const Made m{{c.faces.x, c.faces.y}, {s.faces[c.faces.x], s.faces[c.faces.y]}};
     // Neither face has changed since the candidate was found, nor has the (stale) edge table, so
     // flip_edge would find this very quad again: the flip is made from it directly.
@@ -338,6 +332,8 @@ std::size_t flip_slim_triangles(FractureSurface& s, std::span<const glm::vec4> s
     s.faces[c.faces.y] = f1;
     created.insert(diagonal);
     used[c.faces.x] = used[c.faces.y] = 1;
+    for (const std::uint32_t g : c.junctions)
+      if (g != kNoEdge) turned[g] = 1;
     owner[c.faces.x] = owner[c.faces.y] = std::int32_t(made.size());
     made.push_back(m);
   }

@@ -28,8 +28,9 @@ struct FlipOptions {
 /// One pass over the regular edges in id order: flips an edge when one of its faces has an angle
 /// below min_angle, the flip raises the smaller of the two faces' minimum angles, the faces are
 /// within max_dihedral of coplanar (so the shape barely changes), both new faces keep the old
-/// orientation, none of the quad's four outer edges is a junction (non-manifold) edge, and the
-/// energy Σ A ψ̄ (ψ per vertex from `samples`) does not rise, and neither new face meets another
+/// orientation, the faces around each junction (non-manifold) edge among the quad's four outer
+/// edges keep their cyclic order (flip_keeps_junction_order; at most one flip turns a face about
+/// each junction edge per pass), and the energy Σ A ψ̄ (ψ per vertex from `samples`) does not rise, and neither new face meets another
 /// face of S (exact test: S stays free of self-intersections). The flips are made first and
 /// checked together afterwards: one whose faces meet a face of S, or the later of two whose faces
 /// meet, is undone, and so on until the faces restored meet nothing. Faces touched by one flip

@@ -41,6 +41,23 @@ bool neighbour_keeps_order(const FractureSurface& s, std::uint32_t g, std::uint3
 
 }  // namespace
 
+bool flip_keeps_junction_order(const FractureSurface& s, std::uint32_t e, glm::uvec2 cd, glm::uvec2 ff,
+                               std::array<std::uint32_t, 4>& junctions) {
+  junctions.fill(kNoEdge);
+  int found = 0;
+  for (int side = 0; side < 2; ++side) {
+    const std::uint32_t f = ff[side];
+    const glm::dvec3 turned_to = at_vertex(s, cd[1 - side]);
+    for (int c = 0; c < 3; ++c) {
+      const std::uint32_t g = s.face_edges[3 * f + c];
+      if (g == e || s.edge_special[g] != kEdgeNonManifold) continue;
+      if (!neighbour_keeps_order(s, g, f, turned_to)) return false;
+      junctions[std::size_t(found++)] = g;
+    }
+  }
+  return true;
+}
+
 bool split_keeps_junction_order(const FractureSurface& s, const SplitRequest& r, const glm::vec3& at) {
   const std::uint32_t e = r.element;
   const glm::dvec3 m(at);
