@@ -56,7 +56,7 @@ TEST(CliCuts, ACutSmallerThanTheFirstCellGetsAFinerLattice) {
   TempDir t;
   t.write("cube.obj", kCube);
   // A small disc-like cut near a corner: at 24 cells per diagonal it crosses no tet face; the
-  // automatic lattice (no cells_per_diagonal) refines until it does, 96 does too.
+  // automatic lattice (no cells_per_diagonal) refines until it does (48), a fixed 48 does too.
   t.write("small.obj", "v 0.2 0.02 0.02\nv 0.2 0.02 0.06\nv 0.2 0.06 0.06\nv 0.2 0.06 0.02\nf 1 2 3 4\n");
   const std::string scene = R"({"exterior": "cube.obj", "fracture": {"kind": "cuts", "mesh": "small.obj"CELLS},
     "field": {"type": "marble", "resolution": [8, 8, 8]}, "refine": {"max_iterations": 2, "max_triangles": 20000}})";
@@ -71,7 +71,7 @@ TEST(CliCuts, ACutSmallerThanTheFirstCellGetsAFinerLattice) {
   r = run("refine " + at("auto.json", "").string() + " -o " + (t.path / "auto").string() +
           " --backend cpu --stop-after preprocess -q");
   EXPECT_EQ(r.code, 0) << r.err;
-  r = run("refine " + at("fine.json", R"(, "cells_per_diagonal": 96)").string() + " -o " + (t.path / "fine").string() +
+  r = run("refine " + at("fine.json", R"(, "cells_per_diagonal": 48)").string() + " -o " + (t.path / "fine").string() +
           " --backend cpu --stop-after preprocess -q");
   EXPECT_EQ(r.code, 0) << r.err;
 }
