@@ -63,8 +63,11 @@ TEST(RefineContactHold, FacesFlaggedAtTheStartOfAStepDoNotStallIt) {
   const ExteriorSurface b = make_exterior(pieces_test::voxel_surface({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 1.0), "L prism");
   const FieldGrid4 field = field_on_box({0, 0, 0}, {2, 2, 1}, 40, 3, valley_left_of_the_sheet);
   FractureSurface s = sheet_from_crease(8, 0.1f);
-  for (std::uint32_t v = 0; v < s.positions.size(); ++v)
-    if (s.positions[v].y < 1.0f && s.positions[v].y > 0.8f) ASSERT_GT(s.positions[v].x, 1.0f);
+  for (std::uint32_t v = 0; v < s.positions.size(); ++v) {
+    if (s.positions[v].y < 1.0f && s.positions[v].y > 0.8f) {
+      ASSERT_GT(s.positions[v].x, 1.0f);
+    }
+  }
   auto backend = make_cpu_backend(2);
   RefineOptions o;
   o.scale = b.diagonal();

@@ -95,6 +95,29 @@ TEST(RimEmbed, RimVerticesOnBEdgesAndVerticesAreLocatedThere) {
   expect_inside(s, m);
 }
 
+// The refiner's slid rim: a rim vertex on a B edge whose float position lies a hair off it (here
+// 1e-5 up, into the triangle above) is located in that triangle when located again, and keeps
+// its edge when its location is given (EmbedOptions::known), moved back onto it.
+TEST(RimEmbed, KnownLocationsAreKeptOverTheirFloatPositions) {
+  const rim::ExteriorMesh m = unit_box(2);
+  FractureSurface s = sheet_across(4, 0.5);
+  const rim::Embedding first = rim::embed_rim(s, m);
+  const std::uint32_t v = rim_vertex_at(s, first.rim, {0.0, 0.25, 0.5});
+  ASSERT_EQ(first.rim.at[v].kind, Location::kEdge);
+  FractureSurface nudged = s;
+  nudged.positions[v].z += 1e-5f;
+  FractureSurface again = nudged;
+  EXPECT_EQ(rim::embed_rim(again, m).rim.at[v].kind, Location::kFace);
+  rim::EmbedOptions o;
+  o.known = &first.rim;
+  FractureSurface kept = nudged;
+  const rim::Embedding k = rim::embed_rim(kept, m, o);
+  expect_embedded(kept, m, k.rim);
+  EXPECT_EQ(k.rim.at[v].kind, Location::kEdge);
+  EXPECT_EQ(k.rim.at[v].id, first.rim.at[v].id);
+  EXPECT_EQ(glm::vec3(kept.positions[v]), glm::vec3(first.rim.at[v].point));
+}
+
 TEST(RimEmbed, TwoRimEdgesMeetInsideOneTriangle) {
   const rim::ExteriorMesh m = unit_box(1);  // two triangles a side
   FractureSurface s = sheet_across(2, 0.3);

@@ -1,9 +1,11 @@
 #include "refine/refine.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include "field/field_sampler.hpp"
 #include "flow/implicit_step.hpp"
@@ -69,6 +71,7 @@ class Refiner {
   void reembed_rim();
   rim::RimOnB slid_rim(const std::vector<glm::vec4>& x) const;
   void snap_slid_rim(std::vector<glm::vec4>& x) const;
+  std::size_t hold_coincident_rim(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) const;
   void locate_new_rim_vertices();
   std::vector<std::uint32_t> flagged_faces(const std::vector<glm::vec4>& x, const std::vector<float>& clearance) const;
   std::vector<std::uint32_t> new_crossings(const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
@@ -169,7 +172,10 @@ bool Refiner::flow_step(double start, double ceiling, IterationStats& st) {
   for (const std::uint32_t f : flagged_faces(x0, clearance_))
     for (int k = 0; k < 3; ++k) full[s_.faces[f][k]] = x0[s_.faces[f][k]];
   apply_boundary_constraint(s_, b_, x0, full);
-  if (o_.rim_motion) snap_slid_rim(full);
+  if (o_.rim_motion) {
+    snap_slid_rim(full);
+    hold_coincident_rim(x0, full);
+  }
   const StepGuardOptions guard = step_guard_options();
   hold_folding_motion(s_, x0, full, guard);
   const auto t_ccd = Clock::now();
@@ -225,7 +231,11 @@ bool Refiner::flow_step(double start, double ceiling, IterationStats& st) {
     std::vector<glm::vec4> x1 = x0;
     for (std::size_t i = 0; i < x0.size(); ++i) x1[i] = x0[i] + fraction * (full[i] - x0[i]);
     if (attempt > 0) apply_boundary_constraint(s_, b_, x0, x1);
-    if (o_.rim_motion) snap_slid_rim(x1);
+    if (o_.rim_motion) {
+      snap_slid_rim(x1);
+      std::vector<glm::vec4> held = x1;
+      if (hold_coincident_rim(x0, held) > 0) continue;
+    }
     const double rise_double = rise_before;
     rise_before = -1.0;
     if (attempt > 0 && (motion_folds(s_, x0, x1, guard) || motion_crosses_stars(s_, x0, x1))) continue;
@@ -653,7 +663,10 @@ std::size_t Refiner::hold_exterior_crossings(const std::vector<glm::vec4>& x0, s
 // trimmed to B there (rim/trim_to_exterior.hpp): from then on a rim edge is only split at a point
 // of its own segment, in the same triangle of B, and the contact rule keeps S's faces off B.
 void Refiner::embed_rim() {
-  rim::Embedding e = rim::embed_rim(s_, mesh());
+  // With rim_motion the rim vertices keep the locations they slid to (rim::EmbedOptions::known).
+  rim::EmbedOptions eo;
+  if (o_.rim_motion && !rim_.on_b.empty()) eo.known = &rim_;
+  rim::Embedding e = rim::embed_rim(s_, mesh(), eo);
   for (const rim::EmbeddedVertex& a : e.added) {
     tree_.parents.push_back(glm::uvec3(a.parents[0], a.parents[1], a.parents[2]));
     tree_.weights.push_back(glm::vec3(a.weights));
@@ -682,6 +695,30 @@ void Refiner::snap_slid_rim(std::vector<glm::vec4>& x) const {
   const rim::RimOnB slid = slid_rim(x);
   for (std::size_t v = 0; v < x.size() && v < slid.on_b.size(); ++v)
     if (slid.on_b[v]) x[v] = glm::vec4(glm::vec3(slid.at[v].point), 1.0f);
+}
+
+// Two rim vertices that slide onto one point of B (snapped onto the same B edge, or one onto a
+// rim vertex that an earlier split put on that edge) would give the pieces stage two rim points
+// at one place: each rim vertex of x1 that moved and shares its position with another rim vertex
+// stays at x0, until none does (x0 has no such pair, so this ends).
+std::size_t Refiner::hold_coincident_rim(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) const {
+  std::size_t held = 0;
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::map<std::array<float, 3>, std::uint32_t> at;
+    for (std::uint32_t v = 0; v < x1.size(); ++v) {
+      if (!(s_.vertex_flags[v] & kVertexBoundary)) continue;
+      const auto [it, fresh] = at.emplace(std::array<float, 3>{x1[v].x, x1[v].y, x1[v].z}, v);
+      if (fresh) continue;
+      for (const std::uint32_t w : {it->second, v})
+        if (x1[w] != x0[w]) {
+          x1[w] = x0[w];
+          ++held;
+          changed = true;
+        }
+    }
+  }
+  return held;
 }
 
 // A rim vertex that slid into another triangle of B leaves its rim edges across B's edges: they

@@ -127,7 +127,8 @@ class Embedder {
     for (std::uint32_t v = 0; v < s_.positions.size(); ++v) {
       if (!(s_.vertex_flags[v] & kVertexBoundary)) continue;
       double distance = 0.0;
-      const Location loc = locate_on_exterior(m_, at(s_, v), o_.location_epsilon, &distance);
+      const bool known = o_.known && v < o_.known->on_b.size() && o_.known->on_b[v];
+      const Location loc = known ? o_.known->at[v] : locate_on_exterior(m_, at(s_, v), o_.location_epsilon, &distance);
       if (!(distance <= tolerance))
         throw RunError("fracture surface boundary vertex " + std::to_string(v) + " at " + format_point(at(s_, v)) + " is " +
                        std::to_string(distance) + " from the exterior (tolerance " + std::to_string(tolerance) +

@@ -41,6 +41,11 @@ struct EmbedOptions {
   double location_epsilon = 1e-6;
   /// B vertices closer than this (relative to B's diagonal) to a trace's plane are on it.
   double plane_epsilon = 1e-9;
+  /// When set, a rim vertex with a location here (on_b) keeps it instead of being located again
+  /// from its float position (the refiner's slid rim: the float rounding of a point on a B edge
+  /// can lie a hair inside the next triangle, and its rim edge would be split there, a second rim
+  /// point at its place). Rim vertices beyond its size, or without a location, are located.
+  const RimOnB* known = nullptr;
 };
 
 /// What trim_to_exterior (rim/trim_to_exterior.hpp) did.
