@@ -243,6 +243,14 @@ TEST(CliRefine, DemoJelloWithASlidingRimBuildsValidPieces) {
   expect_demo_pieces_ok("jello", 1, "--set refine.rim_motion=true");
 }
 
+TEST(CliRefine, DemoClayWithASlidingRimBuildsValidPieces) {
+  // Issue 28: with refine.rim_motion the clay's rim folded back along a B edge by its 14th
+  // iteration (a rim vertex's two rim edges snapped onto the edge, one past the other's end), and
+  // the pieces stage stopped: "exterior edge ...: a rim segment runs along it across another rim
+  // point". The vertices of such a segment now stay where they were.
+  expect_demo_pieces_ok("clay", 1, "--set refine.rim_motion=true --set refine.max_iterations=14");
+}
+
 TEST(CliRefine, SetOverridesSceneKeysAndTheDemoInputRecordsThem) {
   TempDir t;
   const fs::path out = t.path / "branch";

@@ -72,6 +72,8 @@ class Refiner {
   rim::RimOnB slid_rim(const std::vector<glm::vec4>& x) const;
   void snap_slid_rim(std::vector<glm::vec4>& x) const;
   std::size_t hold_coincident_rim(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) const;
+  std::vector<std::uint32_t> rim_runs_past_rim_points(const std::vector<glm::vec4>& x) const;
+  std::size_t hold_rim_degeneracies(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) const;
   void locate_new_rim_vertices();
   std::vector<std::uint32_t> flagged_faces(const std::vector<glm::vec4>& x, const std::vector<float>& clearance) const;
   std::vector<std::uint32_t> new_crossings(const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
@@ -174,7 +176,7 @@ bool Refiner::flow_step(double start, double ceiling, IterationStats& st) {
   apply_boundary_constraint(s_, b_, x0, full);
   if (o_.rim_motion) {
     snap_slid_rim(full);
-    hold_coincident_rim(x0, full);
+    hold_rim_degeneracies(x0, full);
   }
   const StepGuardOptions guard = step_guard_options();
   hold_folding_motion(s_, x0, full, guard);
@@ -234,7 +236,7 @@ bool Refiner::flow_step(double start, double ceiling, IterationStats& st) {
     if (o_.rim_motion) {
       snap_slid_rim(x1);
       std::vector<glm::vec4> held = x1;
-      if (hold_coincident_rim(x0, held) > 0) continue;
+      if (hold_rim_degeneracies(x0, held) > 0) continue;
     }
     const double rise_double = rise_before;
     rise_before = -1.0;
@@ -717,6 +719,56 @@ std::size_t Refiner::hold_coincident_rim(const std::vector<glm::vec4>& x0, std::
           changed = true;
         }
     }
+  }
+  return held;
+}
+
+// The rim vertices of rim edges that run along a B edge (both ends on it) past another rim point
+// on that edge, at positions x (rim vertices where x puts them): the pieces stage cuts B along
+// the rim and cannot order such a segment among the points on its edge. A slide makes one where
+// the rim folds back along a B edge, two rim edges of one vertex snapped onto it.
+std::vector<std::uint32_t> Refiner::rim_runs_past_rim_points(const std::vector<glm::vec4>& x) const {
+  const rim::RimOnB rim = slid_rim(x);
+  const rim::ExteriorMesh& m = mesh();
+  std::map<std::uint32_t, std::vector<std::pair<double, std::uint32_t>>> on_edge;  // B edge -> (t, rim vertex)
+  for (std::uint32_t v = 0; v < rim.on_b.size(); ++v)
+    if (rim.on_b[v] && rim.at[v].kind == rim::Location::kEdge) on_edge[rim.at[v].id].push_back({rim.at[v].t, v});
+  // Where a location lies along B edge e (its t, 0 or 1 at e's ends), or -1 when not on e.
+  auto along = [&](const rim::Location& l, std::uint32_t e) {
+    if (l.kind == rim::Location::kEdge) return l.id == e ? l.t : -1.0;
+    if (l.kind == rim::Location::kVertex) return l.id == m.edges[e].x ? 0.0 : (l.id == m.edges[e].y ? 1.0 : -1.0);
+    return -1.0;
+  };
+  std::vector<std::uint32_t> out;
+  for (std::uint32_t k = 0; k < s_.edges.size(); ++k) {
+    if (s_.edge_special[k] != kEdgeBoundary) continue;
+    const glm::uvec2 ab = s_.edges[k];
+    if (ab.x >= rim.on_b.size() || ab.y >= rim.on_b.size()) continue;
+    for (const std::uint32_t end : {ab.x, ab.y}) {
+      if (rim.at[end].kind != rim::Location::kEdge) continue;
+      const std::uint32_t e = rim.at[end].id;
+      const double ta = along(rim.at[ab.x], e), tb = along(rim.at[ab.y], e);
+      if (ta < 0.0 || tb < 0.0) continue;
+      for (const auto& [t, v] : on_edge[e])
+        if (v != ab.x && v != ab.y && t > std::min(ta, tb) && t < std::max(ta, tb)) out.insert(out.end(), {ab.x, ab.y, v});
+    }
+  }
+  return out;
+}
+
+// hold_coincident_rim, then each moved vertex of a rim edge that runs along a B edge past another
+// rim point (and that point, when it moved) back at x0, until neither holds anything.
+std::size_t Refiner::hold_rim_degeneracies(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) const {
+  std::size_t held = 0;
+  for (bool changed = true; changed;) {
+    changed = false;
+    held += hold_coincident_rim(x0, x1);
+    for (const std::uint32_t v : rim_runs_past_rim_points(x1))
+      if (x1[v] != x0[v]) {
+        x1[v] = x0[v];
+        ++held;
+        changed = true;
+      }
   }
   return held;
 }
