@@ -236,13 +236,6 @@ TEST(CliRefine, DemoClaySeedSixBuildsValidPieces) {
   expect_demo_pieces_ok("clay", 6, "--set refine.max_iterations=3");
 }
 
-TEST(CliRefine, DemoJelloWithASlidingRimBuildsValidPieces) {
-  // Issue 28: with refine.rim_motion two rim vertices slid onto one point of a B edge in the
-  // Jell-O's 25th iteration, and the pieces stage stopped: "exterior edge ...: two rim points
-  // coincide". A moved rim vertex that lands on another one now stays where it was.
-  expect_demo_pieces_ok("jello", 1, "--set refine.rim_motion=true");
-}
-
 TEST(CliRefine, DemoClayWithASlidingRimBuildsValidPieces) {
   // Issue 28: with refine.rim_motion the clay's rim folded back along a B edge by its 14th
   // iteration (a rim vertex's two rim edges snapped onto the edge, one past the other's end), and

@@ -1,9 +1,12 @@
 // The step's local checks (refine/step_guard.hpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "refine/exterior.hpp"
 #include "refine/step_guard.hpp"
 #include "refine_test_support.hpp"
+#include "surface/surface_examples.hpp"
 
 namespace fracref {
 namespace {
@@ -81,4 +84,34 @@ TEST(StepGuard, TheLineSearchStopsOnlyWhereNoShorterStepLowersTheParabola) {
 }
 
 }  // namespace
+// With the rim sliding, a rim vertex that lands on another rim vertex's point stays where it was;
+// interior vertices are not the rim's business. In the 3 x 3 sheet every vertex but the middle
+// one (m) is on its rim; a, b, c are its first row.
+TEST(StepGuard, ARimVertexThatLandsOnAnotherStays) {
+  const FractureSurface s = example_sheet(3);
+  auto at = [&](float x, float y) {
+    for (std::uint32_t v = 0; v < s.positions.size(); ++v)
+      if (s.positions[v] == glm::vec4(x, y, 0.0f, 1.0f)) return v;
+    return std::uint32_t(0xffffffffu);
+  };
+  const std::uint32_t a = at(0, 0), b = at(1, 0), c = at(2, 0), m = at(1, 1);
+  ASSERT_LT(std::max({a, b, c, m}), s.positions.size());
+  ASSERT_FALSE(s.vertex_flags[m] & kVertexBoundary);
+  const std::vector<glm::vec4> x0 = s.positions;
+  std::vector<glm::vec4> x1 = x0;
+  x1[a] = x0[b];  // onto a rim vertex that stays
+  EXPECT_EQ(hold_coincident_rim(s, x0, x1), 1u);
+  EXPECT_EQ(x1, x0);
+  x1[a] = x1[c] = glm::vec4(0.5f, 0.0f, 0.0f, 1.0f);  // two onto one new point
+  EXPECT_EQ(hold_coincident_rim(s, x0, x1), 2u);
+  EXPECT_EQ(x1, x0);
+  x1[b] = x0[c];  // onto c's point, and a onto b's: b is held, then a lands on it and is held
+  x1[a] = x0[b];
+  EXPECT_EQ(hold_coincident_rim(s, x0, x1), 2u);
+  EXPECT_EQ(x1, x0);
+  x1[m] = x0[b];  // an interior vertex onto a rim vertex: not a rim pair
+  EXPECT_EQ(hold_coincident_rim(s, x0, x1), 0u);
+  EXPECT_EQ(x1[m], x0[b]);
+}
+
 }  // namespace fracref

@@ -1,7 +1,6 @@
 #include "refine/refine.hpp"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -71,7 +70,6 @@ class Refiner {
   void reembed_rim();
   rim::RimOnB slid_rim(const std::vector<glm::vec4>& x) const;
   void snap_slid_rim(std::vector<glm::vec4>& x) const;
-  std::size_t hold_coincident_rim(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) const;
   std::vector<std::uint32_t> rim_runs_past_rim_points(const std::vector<glm::vec4>& x) const;
   std::size_t hold_rim_degeneracies(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) const;
   void locate_new_rim_vertices();
@@ -699,30 +697,6 @@ void Refiner::snap_slid_rim(std::vector<glm::vec4>& x) const {
     if (slid.on_b[v]) x[v] = glm::vec4(glm::vec3(slid.at[v].point), 1.0f);
 }
 
-// Two rim vertices that slide onto one point of B (snapped onto the same B edge, or one onto a
-// rim vertex that an earlier split put on that edge) would give the pieces stage two rim points
-// at one place: each rim vertex of x1 that moved and shares its position with another rim vertex
-// stays at x0, until none does (x0 has no such pair, so this ends).
-std::size_t Refiner::hold_coincident_rim(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) const {
-  std::size_t held = 0;
-  for (bool changed = true; changed;) {
-    changed = false;
-    std::map<std::array<float, 3>, std::uint32_t> at;
-    for (std::uint32_t v = 0; v < x1.size(); ++v) {
-      if (!(s_.vertex_flags[v] & kVertexBoundary)) continue;
-      const auto [it, fresh] = at.emplace(std::array<float, 3>{x1[v].x, x1[v].y, x1[v].z}, v);
-      if (fresh) continue;
-      for (const std::uint32_t w : {it->second, v})
-        if (x1[w] != x0[w]) {
-          x1[w] = x0[w];
-          ++held;
-          changed = true;
-        }
-    }
-  }
-  return held;
-}
-
 // The rim vertices of rim edges that run along a B edge (both ends on it) past another rim point
 // on that edge, at positions x (rim vertices where x puts them): the pieces stage cuts B along
 // the rim and cannot order such a segment among the points on its edge. A slide makes one where
@@ -762,7 +736,7 @@ std::size_t Refiner::hold_rim_degeneracies(const std::vector<glm::vec4>& x0, std
   std::size_t held = 0;
   for (bool changed = true; changed;) {
     changed = false;
-    held += hold_coincident_rim(x0, x1);
+    held += hold_coincident_rim(s_, x0, x1);
     for (const std::uint32_t v : rim_runs_past_rim_points(x1))
       if (x1[v] != x0[v]) {
         x1[v] = x0[v];

@@ -1,7 +1,9 @@
 #include "refine/step_guard.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 
 #include "geom/intersect.hpp"
 #include "util/parallel.hpp"
@@ -201,6 +203,27 @@ bool motion_crosses_stars(const FractureSurface& s, const std::vector<glm::vec4>
 
 bool rises_at_first_order(double rise_double, double rise) {
   return rise_double > 0.0 && rise > 0.0 && 4.0 * rise >= rise_double;
+}
+
+// Each round holds at least one more vertex at x0 or is the last.
+std::size_t hold_coincident_rim(const FractureSurface& s, const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) {
+  std::size_t held = 0;
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::map<std::array<float, 3>, std::uint32_t> at;
+    for (std::uint32_t v = 0; v < x1.size(); ++v) {
+      if (!(s.vertex_flags[v] & kVertexBoundary)) continue;
+      const auto [it, fresh] = at.emplace(std::array<float, 3>{x1[v].x, x1[v].y, x1[v].z}, v);
+      if (fresh) continue;
+      for (const std::uint32_t w : {it->second, v})
+        if (x1[w] != x0[w]) {
+          x1[w] = x0[w];
+          ++held;
+          changed = true;
+        }
+    }
+  }
+  return held;
 }
 
 }  // namespace fracref

@@ -56,4 +56,12 @@ bool motion_crosses_stars(const FractureSurface& s, const std::vector<glm::vec4>
 /// (0, 0) to (length, rise). So no shorter step lowers E, as far as a parabola describes it.
 bool rises_at_first_order(double rise_double, double rise);
 
+/// Resets to x0 each rim (boundary) vertex of `s` that moved (x1 != x0) and shares its position in
+/// x1 with another rim vertex, until none does; returns the number of vertices reset. With the
+/// rim sliding on B (refine.rim_motion), two rim vertices can land on one point of B (snapped
+/// onto the same B edge), and the pieces stage would get two rim points at one place. When x0
+/// has no such pair, x1 has none afterwards.
+/// \pre x0.size() == x1.size() == s.positions.size().
+std::size_t hold_coincident_rim(const FractureSurface& s, const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1);
+
 }  // namespace fracref
