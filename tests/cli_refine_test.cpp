@@ -244,6 +244,13 @@ TEST(CliRefine, DemoClayWithASlidingRimBuildsValidPieces) {
   expect_demo_pieces_ok("clay", 1, "--set refine.rim_motion=true --set refine.max_iterations=14");
 }
 
+TEST(CliRefine, DemoBunnyWithASlidingRimBuildsValidPieces) {
+  // Issue 28: with refine.rim_motion two of the bunny's rim edges crossed inside a triangle of B
+  // by its 9th iteration, and the pieces stage stopped: "... two traced paths cross". The moved
+  // ends of rim edges that would cross now stay where they were.
+  expect_demo_pieces_ok("bunny", 1, "--set refine.rim_motion=true --set refine.max_iterations=9");
+}
+
 TEST(CliRefine, SetOverridesSceneKeysAndTheDemoInputRecordsThem) {
   TempDir t;
   const fs::path out = t.path / "branch";

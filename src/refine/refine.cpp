@@ -7,6 +7,7 @@
 #include <map>
 
 #include "field/field_sampler.hpp"
+#include "geom/predicates.hpp"
 #include "flow/implicit_step.hpp"
 #include "util/parallel.hpp"
 #include "refine/collisions.hpp"
@@ -71,6 +72,7 @@ class Refiner {
   rim::RimOnB slid_rim(const std::vector<glm::vec4>& x) const;
   void snap_slid_rim(std::vector<glm::vec4>& x) const;
   std::vector<std::uint32_t> rim_runs_past_rim_points(const std::vector<glm::vec4>& x) const;
+  std::vector<std::uint32_t> rim_segments_crossing(const std::vector<glm::vec4>& x) const;
   std::size_t hold_rim_degeneracies(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) const;
   void locate_new_rim_vertices();
   std::vector<std::uint32_t> flagged_faces(const std::vector<glm::vec4>& x, const std::vector<float>& clearance) const;
@@ -730,14 +732,50 @@ std::vector<std::uint32_t> Refiner::rim_runs_past_rim_points(const std::vector<g
   return out;
 }
 
+// The ends of rim edges that cross another rim edge inside a triangle of B, at positions x: the
+// pieces stage cuts the triangle along both and cannot ("two traced paths cross"). The same test
+// as its cut: a proper crossing in the triangle's barycentric plane, exact (orient2d); edges
+// sharing an end, and edges along a B edge (judged by rim_runs_past_rim_points), are not tested.
+std::vector<std::uint32_t> Refiner::rim_segments_crossing(const std::vector<glm::vec4>& x) const {
+  const rim::RimOnB rim = slid_rim(x);
+  const rim::ExteriorMesh& m = mesh();
+  std::map<std::uint32_t, std::vector<glm::uvec2>> in_face;  // B triangle -> rim edges inside it
+  for (std::uint32_t k = 0; k < s_.edges.size(); ++k) {
+    if (s_.edge_special[k] != kEdgeBoundary) continue;
+    const glm::uvec2 ab = s_.edges[k];
+    if (ab.x >= rim.on_b.size() || ab.y >= rim.on_b.size() || !rim.on_b[ab.x] || !rim.on_b[ab.y]) continue;
+    const std::uint32_t f = rim::common_face(m, rim.at[ab.x], rim.at[ab.y]);
+    if (f == rim::kNone || (rim::location_sides(m, rim.at[ab.x], f) & rim::location_sides(m, rim.at[ab.y], f)) != 0u) continue;
+    in_face[f].push_back(ab);
+  }
+  std::vector<std::uint32_t> out;
+  for (const auto& [f, edges] : in_face) {
+    if (edges.size() < 2) continue;
+    auto uv = [&](std::uint32_t v) { return rim::location_uv(m, rim.at[v], f); };
+    for (std::size_t i = 0; i < edges.size(); ++i)
+      for (std::size_t j = i + 1; j < edges.size(); ++j) {
+        const glm::uvec2 e = edges[i], g = edges[j];
+        if (e.x == g.x || e.x == g.y || e.y == g.x || e.y == g.y) continue;
+        const glm::dvec2 a = uv(e.x), b = uv(e.y), c = uv(g.x), d = uv(g.y);
+        if (orient2d(a, b, c) * orient2d(a, b, d) < 0 && orient2d(c, d, a) * orient2d(c, d, b) < 0)
+          out.insert(out.end(), {e.x, e.y, g.x, g.y});
+      }
+  }
+  return out;
+}
+
 // hold_coincident_rim, then each moved vertex of a rim edge that runs along a B edge past another
-// rim point (and that point, when it moved) back at x0, until neither holds anything.
+// rim point, or that crosses another rim edge inside a B triangle (and those points or edges'
+// ends, when they moved) back at x0, until nothing more is held.
 std::size_t Refiner::hold_rim_degeneracies(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) const {
   std::size_t held = 0;
   for (bool changed = true; changed;) {
     changed = false;
     held += hold_coincident_rim(s_, x0, x1);
-    for (const std::uint32_t v : rim_runs_past_rim_points(x1))
+    std::vector<std::uint32_t> bad = rim_runs_past_rim_points(x1);
+    const std::vector<std::uint32_t> crossing = rim_segments_crossing(x1);
+    bad.insert(bad.end(), crossing.begin(), crossing.end());
+    for (const std::uint32_t v : bad)
       if (x1[v] != x0[v]) {
         x1[v] = x0[v];
         ++held;
