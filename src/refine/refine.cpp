@@ -749,7 +749,9 @@ std::vector<std::uint32_t> Refiner::rim_segments_crossing(const std::vector<glm:
     in_face[f].push_back(ab);
   }
   std::vector<std::uint32_t> out;
-  for (const auto& [f, edges] : in_face) {
+  for (const auto& entry : in_face) {
+    const std::uint32_t f = entry.first;  // not a structured binding: clang before 16 cannot capture one in a lambda
+    const std::vector<glm::uvec2>& edges = entry.second;
     if (edges.size() < 2) continue;
     auto uv = [&](std::uint32_t v) { return rim::location_uv(m, rim.at[v], f); };
     for (std::size_t i = 0; i < edges.size(); ++i)
