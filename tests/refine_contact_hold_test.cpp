@@ -8,23 +8,10 @@
 #include "refine/exterior.hpp"
 #include "refine/refine.hpp"
 #include "pieces_test_support.hpp"
+#include "refine_test_support.hpp"
 
 namespace fracref {
 namespace {
-
-// ψ = psi(p) on n^3 nodes over the cube on [lo, lo + the box's largest side] and a margin of 0.05.
-FieldGrid4 field_on_box(glm::dvec3 lo, glm::dvec3 hi, unsigned n, int levels, double (*psi)(const glm::dvec3&)) {
-  Grid3 g;
-  g.dims = {n, n, n};
-  g.origin = lo - glm::dvec3(0.05);
-  g.cell = (std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) + 0.1) / double(n - 1);
-  for (unsigned z = 0; z < n; ++z)
-    for (unsigned y = 0; y < n; ++y)
-      for (unsigned x = 0; x < n; ++x) g.values.push_back(float(psi(g.node_position(x, y, z))));
-  PyramidOptions po;
-  po.levels = levels;
-  return precompute_field_gradient(build_pyramid_cpu(g, po));
-}
 
 // An n x n grid sheet in the L prism below, from its concave edge (1, 1, z) to (1 + slant, 0, z)
 // on its wall y = 0, z in [0, 1].
@@ -61,7 +48,7 @@ double valley_left_of_the_sheet(const glm::dvec3& p) { return 0.3 + 3.0 * std::m
 // moves.
 TEST(RefineContactHold, FacesFlaggedAtTheStartOfAStepDoNotStallIt) {
   const ExteriorSurface b = make_exterior(pieces_test::voxel_surface({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 1.0), "L prism");
-  const FieldGrid4 field = field_on_box({0, 0, 0}, {2, 2, 1}, 40, 3, valley_left_of_the_sheet);
+  const FieldGrid4 field = test::field_on_box({0, 0, 0}, {2, 2, 1}, 40, 3, valley_left_of_the_sheet);
   FractureSurface s = sheet_from_crease(8, 0.1f);
   for (std::uint32_t v = 0; v < s.positions.size(); ++v) {
     if (s.positions[v].y < 1.0f && s.positions[v].y > 0.8f) {

@@ -1,5 +1,6 @@
 #pragma once
 // The refine tests' hand-made case: a unit cube cut by a coarse grid sheet, and fields on it.
+#include <algorithm>
 #include <vector>
 
 #include "field/field_sampler.hpp"
@@ -35,20 +36,26 @@ FractureSurface sheet_of(int n, Height height) {
   return make_fracture_surface(p, f, pieces, 2);
 }
 
-/// The field ψ = psi(p) on a grid of n nodes a side over the cube and a margin of 0.05, with a
-/// pyramid of `levels`.
+/// The field ψ = psi(p) on a grid of n nodes a side over the cube [lo, lo + the box's largest
+/// side] and a margin of 0.05, with a pyramid of `levels`.
 template <class Psi>
-FieldGrid4 field_on_cube(unsigned n, int levels, Psi psi) {
+FieldGrid4 field_on_box(const glm::dvec3& lo, const glm::dvec3& hi, unsigned n, int levels, Psi psi) {
   Grid3 g;
   g.dims = {n, n, n};
-  g.origin = glm::dvec3(-0.05);
-  g.cell = 1.1 / double(n - 1);
+  g.origin = lo - glm::dvec3(0.05);
+  g.cell = (std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) + 0.1) / double(n - 1);
   for (unsigned z = 0; z < n; ++z)
     for (unsigned y = 0; y < n; ++y)
       for (unsigned x = 0; x < n; ++x) g.values.push_back(float(psi(g.node_position(x, y, z))));
   PyramidOptions po;
   po.levels = levels;
   return precompute_field_gradient(build_pyramid_cpu(g, po));
+}
+
+/// field_on_box over the unit cube.
+template <class Psi>
+FieldGrid4 field_on_cube(unsigned n, int levels, Psi psi) {
+  return field_on_box(glm::dvec3(0.0), glm::dvec3(1.0), n, levels, psi);
 }
 
 /// A flat sheet at height z.

@@ -71,8 +71,8 @@ class Refiner {
   void reembed_rim();
   rim::RimOnB slid_rim(const std::vector<glm::vec4>& x) const;
   void snap_slid_rim(std::vector<glm::vec4>& x) const;
-  std::vector<std::uint32_t> rim_runs_past_rim_points(const std::vector<glm::vec4>& x) const;
-  std::vector<std::uint32_t> rim_segments_crossing(const std::vector<glm::vec4>& x) const;
+  std::vector<std::uint32_t> rim_runs_past_rim_points(const rim::RimOnB& rim) const;
+  std::vector<std::uint32_t> rim_segments_crossing(const rim::RimOnB& rim) const;
   std::size_t hold_rim_degeneracies(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) const;
   void locate_new_rim_vertices();
   std::vector<std::uint32_t> flagged_faces(const std::vector<glm::vec4>& x, const std::vector<float>& clearance) const;
@@ -700,11 +700,10 @@ void Refiner::snap_slid_rim(std::vector<glm::vec4>& x) const {
 }
 
 // The rim vertices of rim edges that run along a B edge (both ends on it) past another rim point
-// on that edge, at positions x (rim vertices where x puts them): the pieces stage cuts B along
-// the rim and cannot order such a segment among the points on its edge. A slide makes one where
-// the rim folds back along a B edge, two rim edges of one vertex snapped onto it.
-std::vector<std::uint32_t> Refiner::rim_runs_past_rim_points(const std::vector<glm::vec4>& x) const {
-  const rim::RimOnB rim = slid_rim(x);
+// on that edge, with the rim at `rim`: the pieces stage cuts B along the rim and cannot order
+// such a segment among the points on its edge. A slide makes one where the rim folds back along
+// a B edge, two rim edges of one vertex snapped onto it.
+std::vector<std::uint32_t> Refiner::rim_runs_past_rim_points(const rim::RimOnB& rim) const {
   const rim::ExteriorMesh& m = mesh();
   std::map<std::uint32_t, std::vector<std::pair<double, std::uint32_t>>> on_edge;  // B edge -> (t, rim vertex)
   for (std::uint32_t v = 0; v < rim.on_b.size(); ++v)
@@ -720,10 +719,12 @@ std::vector<std::uint32_t> Refiner::rim_runs_past_rim_points(const std::vector<g
     if (s_.edge_special[k] != kEdgeBoundary) continue;
     const glm::uvec2 ab = s_.edges[k];
     if (ab.x >= rim.on_b.size() || ab.y >= rim.on_b.size()) continue;
-    for (const std::uint32_t end : {ab.x, ab.y}) {
-      if (rim.at[end].kind != rim::Location::kEdge) continue;
-      const std::uint32_t e = rim.at[end].id;
-      const double ta = along(rim.at[ab.x], e), tb = along(rim.at[ab.y], e);
+    // The B edge the segment may run along: one that an end lies inside (the other end on it too).
+    const rim::Location &la = rim.at[ab.x], &lb = rim.at[ab.y];
+    for (const rim::Location* end : {&la, &lb}) {
+      if (end->kind != rim::Location::kEdge || (end == &lb && la.kind == rim::Location::kEdge && la.id == lb.id)) continue;
+      const std::uint32_t e = end->id;
+      const double ta = along(la, e), tb = along(lb, e);
       if (ta < 0.0 || tb < 0.0) continue;
       for (const auto& [t, v] : on_edge[e])
         if (v != ab.x && v != ab.y && t > std::min(ta, tb) && t < std::max(ta, tb)) out.insert(out.end(), {ab.x, ab.y, v});
@@ -732,12 +733,12 @@ std::vector<std::uint32_t> Refiner::rim_runs_past_rim_points(const std::vector<g
   return out;
 }
 
-// The ends of rim edges that cross another rim edge inside a triangle of B, at positions x: the
-// pieces stage cuts the triangle along both and cannot ("two traced paths cross"). The same test
-// as its cut: a proper crossing in the triangle's barycentric plane, exact (orient2d); edges
-// sharing an end, and edges along a B edge (judged by rim_runs_past_rim_points), are not tested.
-std::vector<std::uint32_t> Refiner::rim_segments_crossing(const std::vector<glm::vec4>& x) const {
-  const rim::RimOnB rim = slid_rim(x);
+// The ends of rim edges that cross another rim edge inside a triangle of B, with the rim at
+// `rim`: the pieces stage cuts the triangle along both and cannot ("two traced paths cross"). The
+// same test as its cut: a proper crossing in the triangle's barycentric plane, exact (orient2d);
+// edges sharing an end, and edges along a B edge (judged by rim_runs_past_rim_points), are not
+// tested.
+std::vector<std::uint32_t> Refiner::rim_segments_crossing(const rim::RimOnB& rim) const {
   const rim::ExteriorMesh& m = mesh();
   std::map<std::uint32_t, std::vector<glm::uvec2>> in_face;  // B triangle -> rim edges inside it
   for (std::uint32_t k = 0; k < s_.edges.size(); ++k) {
@@ -774,8 +775,9 @@ std::size_t Refiner::hold_rim_degeneracies(const std::vector<glm::vec4>& x0, std
   for (bool changed = true; changed;) {
     changed = false;
     held += hold_coincident_rim(s_, x0, x1);
-    std::vector<std::uint32_t> bad = rim_runs_past_rim_points(x1);
-    const std::vector<std::uint32_t> crossing = rim_segments_crossing(x1);
+    const rim::RimOnB rim = slid_rim(x1);  // once for both tests: it locates every moved rim vertex on B
+    std::vector<std::uint32_t> bad = rim_runs_past_rim_points(rim);
+    const std::vector<std::uint32_t> crossing = rim_segments_crossing(rim);
     bad.insert(bad.end(), crossing.begin(), crossing.end());
     for (const std::uint32_t v : bad)
       if (x1[v] != x0[v]) {
