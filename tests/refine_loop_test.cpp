@@ -153,7 +153,7 @@ TEST(RefineLoop, BudgetStopsTheLoopAtTheFirstRefusedSplit) {
     EXPECT_EQ(r.result.stop, RefineResult::Stop::kTriangleBudget);
     EXPECT_EQ(r.result.iterations.size(), expected + 1);
     // The budget refuses the refinement's splits; the splits that embed a slid rim in B again
-    // (refine.cpp, reembed_rim) are not refused and may add a few.
+    // (refine_rim.cpp, Refiner::reembed_rim) are not refused and may add a few.
     EXPECT_LE(r.result.iterations.back().triangles, budget + budget / 10);
     EXPECT_GE(r.s.faces.size(), r.result.iterations.back().triangles);
   }

@@ -1,7 +1,7 @@
 #pragma once
 // S meets B only at its rim (issue 29): a face of S touches a triangle of B only at its own rim
 // points located in that triangle. The flow holds back the vertices of a face that a step would
-// take across B (refine.cpp), so that the pieces stage can cut B along the rim in one pass.
+// take across B (refine_rim.cpp, Refiner::hold_exterior_crossings), so that the pieces stage can cut B along the rim in one pass.
 #include <cstdint>
 #include <vector>
 
