@@ -135,6 +135,7 @@ RefineOptions refine_options(const Scene& scene, const JobOptions& o, double dia
   r.max_iterations = scene.refine.max_iterations;
   r.rim_motion = scene.refine.rim_motion;
   r.tangential_motion = scene.refine.tangential_motion;
+  r.relax = scene.refine.relax;
   r.max_triangles = std::size_t(scene.refine.max_triangles);
   r.seed = o.seed.value_or(scene.refine.seed);
   r.min_angle = scene.refine.min_angle;

@@ -11,6 +11,7 @@
 #include "refine/flips.hpp"
 #include "refine/motion_filters.hpp"
 #include "refine/refiner.hpp"
+#include "refine/relaxation.hpp"
 #include "refine/rim_collar.hpp"
 #include "refine/step_guard.hpp"
 #include "util/error.hpp"
@@ -57,6 +58,7 @@ bool Refiner::flow_step(double start, double ceiling, IterationStats& st) {
   std::vector<glm::dvec3> d(s_.positions.size());
   for (std::size_t i = 0; i < d.size() && i < last_move_.size(); ++i) d[i] = glm::dvec3(last_move_[i]);
   st.solver_iterations = implicit_step(view(), samples_, velocity_, dt_, filter, d, {.threads = default_threads()}).iterations;
+  add_tangential_relaxation(s_, s_.positions, d, {.fraction = o_.relax, .threads = default_threads()});
   const std::vector<glm::vec4> x0 = s_.positions;
   std::vector<glm::vec4> full = x0;
   for (std::size_t i = 0; i < x0.size(); ++i) full[i] = glm::vec4(glm::vec3(x0[i]) + glm::vec3(d[i]), 1.0f);

@@ -41,6 +41,10 @@ struct RefineOptions {
   /// equation 3); off, each moves along its normal only (motion_filters.hpp: for fields whose weak
   /// valleys are a grid cell or two wide).
   bool tangential_motion = true;
+  /// Each flow step also moves every vertex inside a sheet this fraction of the way to its ring's
+  /// centroid, along S (refine/relaxation.hpp): the triangles even out, fewer creases and slivers
+  /// form; 0 = off (the paper's flow). In [0, 1].
+  double relax = 0.0;
 };
 
 /// What one iteration did (report.json's `iterations` list).

@@ -161,6 +161,7 @@ RefineSpec read_refine(ObjectReader r) {
   f.collisions = r.boolean("collisions", f.collisions);
   f.rim_motion = r.boolean("rim_motion", f.rim_motion);
   f.tangential_motion = r.boolean("tangential_motion", f.tangential_motion);
+  f.relax = r.number("relax", f.relax, Range::closed(0.0, 1.0));
   r.finish();
   return f;
 }
