@@ -42,8 +42,8 @@ struct RefineOptions {
   /// valleys are a grid cell or two wide).
   bool tangential_motion = true;
   /// Each flow step also moves every vertex inside a sheet this fraction of the way to its ring's
-  /// centroid, along S (refine/relaxation.hpp): the triangles even out, fewer creases and slivers
-  /// form; 0 = off (the paper's flow). In [0, 1].
+  /// centroid, along S (refine/relaxation.hpp), which evens the triangles out; it acts along S
+  /// with tangential_motion off too. 0 = off (the paper's flow). In [0, 1].
   double relax = 0.0;
 };
 
