@@ -88,13 +88,14 @@ constexpr std::size_t kSlots = 8, kPathBytes = 4096;
 std::array<std::array<char, kPathBytes>, kSlots> g_paths{};
 std::array<std::atomic<int>, kSlots> g_used{};
 
-// Removes the registered folders with `rm -rf` in a child (fork, exec and waitpid are
+// Removes the registered folders with `rm -rf` in a child (_Fork, exec and waitpid are
 // async-signal-safe; a recursive removal in the handler itself would not be), then exits with
-// 128 + the signal, as a shell reports an interrupted command.
+// 128 + the signal, as a shell reports an interrupted command. Not fork(): glibc's takes malloc's
+// locks, and a signal that lands inside malloc or free would wait on them for ever.
 extern "C" void remove_staging_and_exit(int sig) {
   for (std::size_t i = 0; i < kSlots; ++i) {
     if (g_used[i].load() != 1) continue;
-    const pid_t child = fork();
+    const pid_t child = _Fork();
     if (child == 0) {
       char* const argv[] = {const_cast<char*>("rm"), const_cast<char*>("-rf"), const_cast<char*>("--"),
                             g_paths[i].data(), nullptr};
