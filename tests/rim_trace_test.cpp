@@ -57,3 +57,30 @@ TEST(RimTrace, ThereIsNoThirdWay) {
 }
 
 }  // namespace fracref
+
+namespace fracref {
+
+// A plane that passes a hair (2e-10, float rounding's size) above a row of B vertices, the grid
+// line z = 0.5 on the wall x = 0: the walk goes through those vertices, not across each edge
+// around them a hair from it (one rim point per edge at one place, which the pieces stage cannot
+// order).
+TEST(RimTrace, APlaneAHairFromBVerticesGoesThroughThem) {
+  const rim::ExteriorMesh m = rim::make_exterior_mesh(pieces_test::box(glm::dvec3(0.0), glm::dvec3(1.0), 4));
+  double d = 0.0;
+  const double z = 0.5 + 2e-10;
+  const rim::Location p = rim::locate_on_exterior(m, {0.0, 0.1, z}, 0.0, &d);
+  const rim::Location q = rim::locate_on_exterior(m, {0.0, 0.9, z}, 0.0, &d);
+  const rim::Trace t = rim::trace_in_plane(m, p, q, 1e-12, glm::dvec3(0.0, 0.0, 1.0), 0);
+  ASSERT_FALSE(t.steps.empty());
+  EXPECT_TRUE(rim::same_location(t.steps.back().to, q));
+  int through = 0;
+  glm::dvec3 last = t.from.point;
+  for (const rim::TraceStep& s : t.steps) {
+    EXPECT_GT(glm::distance(s.to.point, last), 1e-6) << "two trace points at one place, near " << s.to.point.y;
+    last = s.to.point;
+    through += s.to.kind == rim::Location::kVertex ? 1 : 0;
+  }
+  EXPECT_EQ(through, 3);  // (0, 0.25, 0.5), (0, 0.5, 0.5), (0, 0.75, 0.5)
+}
+
+}  // namespace fracref

@@ -10,6 +10,9 @@
 namespace fracref::rim {
 namespace {
 
+// Crossings of a B edge closer than this many plane tolerances to an end are that end.
+constexpr double kVertexSnap = 1000.0;
+
 struct Candidate {
   Location loc;
   std::uint32_t face = 0;
@@ -114,8 +117,18 @@ class Walker {
       if (!((a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0))) continue;
       const std::uint32_t e = m_.face_edges[f][k];
       if (cur.kind == Location::kEdge && cur.id == e) continue;
-      const double sa = side(m_.edges[e].x), sb = side(m_.edges[e].y);
-      candidates_.push_back({edge_location(m_, e, sa / (sa - sb)), f});
+      const double sa = side(m_.edges[e].x), sb = side(m_.edges[e].y), at = sa / (sa - sb);
+      // A crossing a hair from an end (the plane passes that close to a B vertex: a chord
+      // through it, up to float rounding) is the vertex: its side is zero from now on, or the
+      // curve would cross each edge around it there, one rim point per edge at one place.
+      const double length = glm::length(m_.positions[m_.edges[e].y] - m_.positions[m_.edges[e].x]);
+      if (std::min(at, 1.0 - at) * length <= kVertexSnap * tol_) {
+        const std::uint32_t v = at < 0.5 ? m_.edges[e].x : m_.edges[e].y;
+        side_[v] = 0.0;
+        if (!(cur.kind == Location::kVertex && cur.id == v)) candidates_.push_back({vertex_location(m_, v), f});
+        continue;
+      }
+      candidates_.push_back({edge_location(m_, e, at), f});
     }
   }
 
