@@ -61,7 +61,7 @@ const char* kComplete = R"({
   "pyramid": {"levels": 6, "sigma": 1.5},
   "refine": {"tau": 0.003, "delta": 0.005, "step": 0.01, "tolerance": 1e-6, "max_iterations": 0,
              "max_triangles": 1000, "seed": 42, "min_angle": 0, "collisions": false,
-             "rim_motion": true, "tangential_motion": false, "relax": 0.25},
+             "rim_motion": true, "tangential_motion": false, "relax": 0.25, "rim_smoothing": 3},
   "output": {"ply": false, "obj": true, "glb": false, "frames": false, "frames_format": "obj", "preview": false, "preview_frames": 12}
 })";
 
@@ -105,6 +105,7 @@ TEST(ParseScene, CompleteSceneHasExactValues) {
   EXPECT_TRUE(s.refine.rim_motion);
   EXPECT_FALSE(s.refine.tangential_motion);
   EXPECT_EQ(s.refine.relax, 0.25);
+  EXPECT_EQ(s.refine.rim_smoothing, 3);
   EXPECT_FALSE(s.output.ply);
   EXPECT_TRUE(s.output.obj);
   EXPECT_FALSE(s.output.glb);
@@ -145,6 +146,7 @@ TEST(ParseScene, DefaultsAreTheDocumentedOnes) {
   EXPECT_FALSE(s.refine.rim_motion);
   EXPECT_TRUE(s.refine.tangential_motion);
   EXPECT_EQ(s.refine.relax, 0.0);
+  EXPECT_EQ(s.refine.rim_smoothing, 0);
   EXPECT_TRUE(s.output.ply && s.output.obj && s.output.glb && s.output.preview);
   EXPECT_FALSE(s.output.frames);  // frames/ only on request
   EXPECT_EQ(s.output.frames_format, "bin");
@@ -304,6 +306,8 @@ TEST(SceneErrors, OutOfRange) {
             "/jobs/bunny/scene.json: key 'refine.min_angle': must be in [0, 60), got 60");
   EXPECT_EQ(patched_error(R"({"refine": {"relax": 1.5}})"),
             "/jobs/bunny/scene.json: key 'refine.relax': must be in [0, 1], got 1.5");
+  EXPECT_EQ(patched_error(R"({"refine": {"rim_smoothing": -1}})"),
+            "/jobs/bunny/scene.json: key 'refine.rim_smoothing': must be an integer in [0, 1000], got -1");
   EXPECT_EQ(patched_error(R"({"pyramid": {"levels": 9}})"),
             "/jobs/bunny/scene.json: key 'pyramid.levels': must be an integer in [1, 8], got 9");
   EXPECT_EQ(patched_error(R"({"field": {"resolution": [1, 50, 50]}})"),

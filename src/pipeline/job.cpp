@@ -136,6 +136,7 @@ RefineOptions refine_options(const Scene& scene, const JobOptions& o, double dia
   r.rim_motion = scene.refine.rim_motion;
   r.tangential_motion = scene.refine.tangential_motion;
   r.relax = scene.refine.relax;
+  r.rim_smoothing = scene.refine.rim_smoothing;
   r.max_triangles = std::size_t(scene.refine.max_triangles);
   r.seed = o.seed.value_or(scene.refine.seed);
   r.min_angle = scene.refine.min_angle;

@@ -12,6 +12,7 @@
 #include "refine/motion_filters.hpp"
 #include "refine/refiner.hpp"
 #include "refine/relaxation.hpp"
+#include "refine/rim_smoothing.hpp"
 #include "refine/rim_collar.hpp"
 #include "refine/step_guard.hpp"
 #include "util/error.hpp"
@@ -275,6 +276,7 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   const double g = typical_gradient(field_);
   dt_ = g > 0.0 ? (o_.step > 0.0 ? o_.step : kDefaultStep) * o_.scale / g : 0.0;
   project_boundary_vertices(s_, b_);
+  smooth_rim(s_, b_, {.passes = o_.rim_smoothing});
   conform_boundary();
   tuck_inside(s_, tree_, b_, tuck_options());
   embed_rim();

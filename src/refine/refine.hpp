@@ -45,6 +45,10 @@ struct RefineOptions {
   /// centroid, along S (refine/relaxation.hpp), which evens the triangles out; it acts along S
   /// with tangential_motion off too. 0 = off (the paper's flow). In [0, 1].
   double relax = 0.0;
+  /// Before the flow, this many passes of rim smoothing (refine/rim_smoothing.hpp) move each
+  /// rim vertex along B half-way to its rim neighbours' midpoint, so the outline loses the coarse
+  /// tetrahedra's zig-zag; 0 = off (the rim stays where the coarse surface meets B).
+  int rim_smoothing = 0;
 };
 
 /// What one iteration did (report.json's `iterations` list).

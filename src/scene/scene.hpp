@@ -75,6 +75,7 @@ struct RefineSpec {
   bool rim_motion = false;      ///< the rim (S's boundary on B) slides on B with the flow
   bool tangential_motion = true;  ///< a vertex inside a sheet moves along S too (else along its normal)
   double relax = 0.0;           ///< in [0, 1]: tangential relaxation of the sheets' vertices per step (0: off)
+  int rim_smoothing = 0;        ///< passes of rim smoothing on B before the flow (0: off)
 };
 
 struct OutputSpec {

@@ -36,6 +36,10 @@ struct SceneText {
   // refine.tangential_motion false: vertices held to their normals. In the wall's valleys, two
   // cells wide, they otherwise bunch into fans of slivers (refine/motion_filters.cpp).
   bool normal_motion = false;
+  // refine.rim_smoothing: passes that smooth the coarse rim on B before the flow, so the outlines
+  // lose the tetrahedra's zig-zag (refine/rim_smoothing.hpp). Not the wall's: its coarse rim
+  // steps along the brick courses, which is the pattern its cracks should keep.
+  int rim_smoothing = 0;
 };
 
 // The paper's section 6.
@@ -43,12 +47,12 @@ constexpr SceneText kScenes[] = {
     {"bunny", "marble bunny",
      "The paper's marble bunny: a tet fracture of the Stanford bunny falling apart, refined in a 50^3 marble field "
      "(paper: 256 -> 174K triangles).",
-     "marble", {50, 50, 50}, 1.2e-7, 1e-4, 2e-4},
+     "marble", {50, 50, 50}, 1.2e-7, 1e-4, 2e-4, false, 0, false, 2},
     {"branch", "tree branch",
      "The paper's tree branch: an incomplete cut in the middle of a cylinder, splintered on the side that snaps "
      "open, completed by virtual fracture, refined "
      "in a 32x32x64 branch field (paper: 60 -> 123K triangles).",
-     "branch", {32, 32, 64}, 4e-8, 5e-5, 1e-5},
+     "branch", {32, 32, 64}, 2e-8, 5e-5, 1e-5, false, 0, false, 3},
     {"wall", "collapsing brick wall",
      "The paper's collapsing wall: a wrecking ball knocks pieces out of a brick wall, whose coarse mesh follows "
      "its bricks, refined in a 300x100x20 brick field over the wall's own box (the paper's 150x50x10 cannot hold "
@@ -57,11 +61,11 @@ constexpr SceneText kScenes[] = {
     {"clay", "twisted plastic clay",
      "The paper's plastic clay: large twisting, plastic deformation before it tears, refined in a 32x64x64 fBm field "
      "(paper: 510 -> 40K triangles).",
-     "fbm", {32, 64, 64}, 5e-6, 5e-5, 2e-4},
+     "fbm", {32, 64, 64}, 5e-6, 5e-5, 2e-4, false, 0, false, 2},
     {"jello", "Jell-O with fruit cubes",
      "The paper's Jell-O: elastic bouncing and gradual fracture, refined in a 64x64x32 field of hard inclusions in soft "
      "jelly (paper: 488 -> 32K triangles).",
-     "inclusions", {64, 64, 32}, 2e-5, 5e-5},
+     "inclusions", {64, 64, 32}, 2e-5, 5e-5, 0.0, false, 0, false, 2},
 };
 
 }  // namespace
@@ -94,6 +98,7 @@ Json scene_json(const SceneSetup& setup, const Json& animation, const std::strin
   if (text->delta > 0.0) j["refine"]["delta"] = text->delta;
   if (text->tolerance > 0.0) j["refine"]["tolerance"] = text->tolerance;
   if (text->normal_motion) j["refine"]["tangential_motion"] = false;
+  if (text->rim_smoothing > 0) j["refine"]["rim_smoothing"] = text->rim_smoothing;
   return j;
 }
 
