@@ -5,6 +5,7 @@
 
 #include "refine/collisions.hpp"
 #include "refine/containment.hpp"
+#include "refine/step_guard.hpp"
 
 namespace fracref {
 namespace {
@@ -140,6 +141,8 @@ std::size_t smooth_rim(FractureSurface& s, const ExteriorSurface& b, const RimSm
       before = x1;
       hold_bad_faces(s, b, x0, x1, met, o);
       apply_collision_constraints(s, b, x0, x1);
+      hold_folding_motion(s, x0, x1);   // the sheets' order around a junction edge, faces turned over
+      hold_star_crossings(s, x0, x1);   // faces that share only a vertex (the collisions skip them)
     }
     s.positions = x1;
     std::size_t moved = 0;

@@ -28,8 +28,10 @@ struct RimSmoothingOptions {
 /// would turn by more than max_turn_degrees, keep less than min_area_ratio of its area, or meet B
 /// away from its corners on B where it did not (face_meets_exterior); where an edge between two
 /// faces would bend past max_crease_degrees and further than it was; or where the motion would
-/// collide with S (apply_collision_constraints). Held vertices are checked again until every
-/// check passes. Connectivity does not change.
+/// collide with S (apply_collision_constraints), fold a face or reorder the sheets around a
+/// junction edge (hold_folding_motion), or make two faces that share a vertex cross
+/// (hold_star_crossings). Held vertices are checked again until every check passes.
+/// Connectivity does not change.
 /// \pre s valid, its adjacency current, its boundary vertices on B, S free of self-intersections.
 /// \return the number of vertex moves made, over all passes.
 std::size_t smooth_rim(FractureSurface& s, const ExteriorSurface& exterior, const RimSmoothingOptions& options);
