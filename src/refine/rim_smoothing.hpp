@@ -13,7 +13,7 @@ struct RimSmoothingOptions {
   int passes = 0;                ///< rounds of smoothing; 0 = off
   double weight = 0.5;           ///< each pass moves a rim vertex this fraction of the way to its rim neighbours' midpoint
   double max_turn_degrees = 80.0;  ///< a face around a moved vertex may turn its normal by at most this
-  double min_area_ratio = 0.5;   ///< ... and keep at least this fraction of its area
+  double min_area_ratio = 0.2;   ///< ... and keep at least this fraction of its area
   double max_crease_degrees = 120.0;  ///< and no edge between two faces may bend further than this, unless it already did
   /// A move whose target lies farther off B than this fraction of its length is not made: the
   /// rim turns round a crease of B there, and the move would cut its corner.
