@@ -22,18 +22,64 @@ vec2 flow_two_product(float a, float b) {
   return vec2(p, e);
 }
 
+// Exact comparisons for the rounding's last step. A positive normal float v is m·2^e with m its
+// 24-bit integer significand (2^23 ≤ m < 2^24).
+uint flow_significand(float v) { return (floatBitsToUint(v) & 0x7FFFFFu) | 0x800000u; }
+int flow_exponent(float v) { return int((floatBitsToUint(v) >> 23) & 0xFFu) - 150; }
+bool flow_normal(float v) { return v >= 1.17549435e-38 && v <= 3.40282347e38; }
+
+// Whether m·2^k > (hi, lo) as 64-bit integers, for 0 ≤ k < 40 and m < 2^24.
+bool flow_shifted_above(uint m, int k, uint hi, uint lo) {
+  const uint shi = k >= 32 ? m << uint(k - 32) : (k == 0 ? 0u : m >> uint(32 - k));
+  const uint slo = k >= 32 ? 0u : m << uint(k);
+  return shi > hi || (shi == hi && slo > lo);
+}
+
+// Whether a > b·mid, mid the midpoint between q and the next float up (a, b, q positive normal):
+// a = A·2^ea, b = B·2^eb, mid = (2Q + 1)·2^(eq − 1), so a > b·mid ⇔ A·2^(ea − eb − eq + 1) >
+// B·(2Q + 1), under 2^49. Never equal: B·(2Q + 1) has more significant bits than A.
+bool flow_quotient_above_mid(float a, float b, float q) {
+  const int k = flow_exponent(a) - flow_exponent(b) - flow_exponent(q) + 1;
+  if (k < 0) return false;
+  if (k >= 40) return true;
+  uint hi, lo;
+  umulExtended(flow_significand(b), 2u * flow_significand(q) + 1u, hi, lo);
+  return flow_shifted_above(flow_significand(a), k, hi, lo);
+}
+
+// Whether x > mid², mid the midpoint between s and the next float up (x, s positive normal):
+// x = X·2^ex, mid² = (2S + 1)²·2^(2es − 2). Never equal, as above.
+bool flow_root_above_mid(float x, float s) {
+  const int k = flow_exponent(x) - 2 * flow_exponent(s) + 2;
+  if (k < 0) return false;
+  if (k >= 40) return true;
+  uint hi, lo;
+  const uint m = 2u * flow_significand(s) + 1u;
+  umulExtended(m, m, hi, lo);
+  return flow_shifted_above(flow_significand(x), k, hi, lo);
+}
+
+float flow_next_up(float v) { return uintBitsToFloat(floatBitsToUint(v) + 1u); }
+float flow_next_down(float v) { return uintBitsToFloat(floatBitsToUint(v) - 1u); }
+
 // a / b rounded to nearest from the device's faithful quotient q (Vulkan allows 2.5 ulp): with
 // q·b = p + e, a − p is exact (Sterbenz: p is within a few ulps of a), so the residual
-// r = (a − p) − e carries one rounding and q + r/b lands on the correctly rounded quotient unless
-// a/b lies within ~2^-21 ulp of a rounding midpoint. A correctly rounding device keeps q (the
-// correction is under half an ulp). Zero, huge or non-finite q or b pass through (the split
-// would overflow). flow_div_from takes q, so that tests can hand it a quotient a few ulps off.
+// r = (a − p) − e carries one rounding and q + r/b lands within an ulp of the correctly rounded
+// quotient; the midpoint tests above (exact, in integers) then settle it, also where a/b lies a
+// hair from a midpoint, which the residual alone cannot (ties cannot happen). Zero, huge,
+// subnormal or non-finite q or b pass through (the split would overflow). flow_div_from takes q,
+// so that tests can hand it a quotient a few ulps off.
 float flow_div_from(float a, float b, float q) {
   if (q == 0.0 || !(max(abs(q), abs(b)) <= 1.0e30)) return q;
   const vec2 pe = flow_two_product(q, b);
   precise float r = (a - pe.x) - pe.y;
   precise float c = q + r / b;
-  return c;
+  const float aa = abs(a), ab = abs(b);
+  float m = abs(c);
+  if (!flow_normal(aa) || !flow_normal(ab) || !flow_normal(m) || !flow_normal(flow_next_down(m))) return c;
+  for (int i = 0; i < 2 && flow_quotient_above_mid(aa, ab, m); ++i) m = flow_next_up(m);
+  for (int i = 0; i < 2 && !flow_quotient_above_mid(aa, ab, flow_next_down(m)); ++i) m = flow_next_down(m);
+  return c < 0.0 ? -m : m;
 }
 
 float flow_div(float a, float b) {
@@ -45,13 +91,17 @@ vec3 flow_div(vec3 a, float b) {
   return vec3(flow_div(a.x, b), flow_div(a.y, b), flow_div(a.z, b));
 }
 
-// sqrt(x) rounded to nearest from the device's faithful s, as flow_div: s + (x − s²) / 2s
-// (flow_sqrt_from takes s).
+// sqrt(x) rounded to nearest from the device's faithful s, as flow_div: s + (x − s²) / 2s, then
+// the exact midpoint tests (flow_sqrt_from takes s). The residual alone misses roots a hair from
+// a midpoint: sqrt of the float just below a power of four lies 2^-27 ulp under one.
 float flow_sqrt_from(float x, float s) {
   if (!(s > 0.0) || !(s <= 1.0e19)) return s;
   const vec2 pe = flow_two_product(s, s);
   precise float r = (x - pe.x) - pe.y;
   precise float c = s + r / (2.0 * s);
+  if (!flow_normal(x) || !flow_normal(c) || !flow_normal(flow_next_down(c))) return c;
+  for (int i = 0; i < 2 && flow_root_above_mid(x, c); ++i) c = flow_next_up(c);
+  for (int i = 0; i < 2 && !flow_root_above_mid(x, flow_next_down(c)); ++i) c = flow_next_down(c);
   return c;
 }
 

@@ -131,6 +131,57 @@ TEST_F(VulkanRoundingTest, DivisionAndSqrtRoundCorrectlyFromQuotientsAFewUlpsOff
   EXPECT_EQ(bad_sqrt, 0u) << "of " << cases.size();
 }
 
+// a / b a hair from a rounding midpoint: with B odd (24 bits) and 2Q + 1 ≡ ∓B⁻¹ (mod 2^25),
+// A = (B·(2Q + 1) ± 1) / 2^25 is an integer, and A/B lies 1/(B·2^25) from the midpoint
+// (2Q + 1)/2^25, about 2^-25 ulp. Scaled by 2^e.
+Case hard_quotient(std::mt19937& rng, int sign) {
+  for (;;) {
+    const std::uint64_t b = (rng() & 0x7FFFFFu) | 0x800001u;  // odd, 24 bits
+    std::uint64_t inv = b;                                    // b⁻¹ mod 2^25 by Newton's iteration
+    for (int i = 0; i < 5; ++i) inv = (inv * (2 - b * inv)) & 0x1FFFFFFu;
+    const std::uint64_t m = sign > 0 ? (0x2000000u - inv) & 0x1FFFFFFu : inv;  // 2Q + 1
+    if (m < 0x1000000u) continue;                                              // Q in [2^23, 2^24)
+    const std::uint64_t num = b * m + (sign > 0 ? 1 : 0) - (sign > 0 ? 0 : 1);
+    if (num % 0x2000000u != 0) continue;
+    const std::uint64_t a = num / 0x2000000u;
+    if (a < 0x800000u || a >= 0x1000000u) continue;
+    const int e = int(rng() % 21) - 10;
+    const float af = std::ldexp(float(a), e), bf = float(b);
+    return {af, bf, af / bf, std::sqrt(af)};
+  }
+}
+
+// Quotients and roots a hair from a rounding midpoint, where the residual's one rounding can land
+// on the wrong side: the quotients above, and the roots of the floats just below and above each
+// power of four (2^-27 and 2^-26 ulp from one). Squared areas of faces on a dyadic lattice hit
+// those: the bunny's Vulkan run once differed from its CPU run by such a root. Each case starts
+// from the correct result or an ulp either side.
+TEST_F(VulkanRoundingTest, QuotientsAndRootsAHairFromAMidpointRoundCorrectly) {
+  std::mt19937 rng(11);
+  std::vector<Case> cases;
+  for (int i = 0; i < 4 * int(kGroup); ++i) {
+    Case c = hard_quotient(rng, i % 2 ? 1 : -1);
+    c.q = step_ulps(c.q, i % 3 - 1);
+    cases.push_back(c);
+  }
+  for (int e = -60; e <= 60; e += 2)
+    for (const float x : {std::nextafter(std::ldexp(1.0f, e), 0.0f), std::nextafter(std::ldexp(1.0f, e), INFINITY)})
+      for (int off = -1; off <= 1; ++off) cases.push_back({x, 1.0f, x, step_ulps(std::sqrt(x), off)});
+  while (cases.size() % kGroup) cases.push_back(cases.back());
+  const std::vector<float> out = probe(cases);
+  std::size_t bad_div = 0, bad_sqrt = 0;
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const Case& c = cases[k];
+    const float q = c.a / c.b, s = std::sqrt(std::abs(c.a));
+    if (std::memcmp(&out[2 * k], &q, 4) != 0 && bad_div++ < 5)
+      ADD_FAILURE() << c.a << " / " << c.b << " from " << c.q << ": got " << out[2 * k] << ", want " << q;
+    if (std::memcmp(&out[2 * k + 1], &s, 4) != 0 && bad_sqrt++ < 5)
+      ADD_FAILURE() << "sqrt " << std::abs(c.a) << " from " << c.s << ": got " << out[2 * k + 1] << ", want " << s;
+  }
+  EXPECT_EQ(bad_div, 0u) << "of " << cases.size();
+  EXPECT_EQ(bad_sqrt, 0u) << "of " << cases.size();
+}
+
 TEST_F(VulkanRoundingTest, ZeroAndNonFiniteQuotientsPassThrough) {
   std::vector<Case> cases(kGroup, Case{1.0f, 3.0f, 1.0f / 3.0f, 1.0f});
   cases[0] = {0.0f, 2.0f, 0.0f, 0.0f};
