@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pieces_test_support.hpp"
 #include "refine/exterior.hpp"
 #include "refine/rim_smoothing.hpp"
 #include "refine_test_support.hpp"
+#include "surface/surface_examples.hpp"
 
 namespace fracref {
 namespace {
@@ -75,6 +77,35 @@ TEST(RimSmoothing, AStraightRimStays) {
   smooth_rim(s, b, {.passes = 3});
   for (std::size_t v = 0; v < s.positions.size(); ++v)
     EXPECT_LT(glm::distance(glm::vec3(s.positions[v]), glm::vec3(start[v])), 1e-6f) << "vertex " << v;
+}
+
+// Three sheets meeting along a junction (the T of surface_examples) in a box whose walls hold
+// their rims; the horizontal sheet's rim on the walls x = ±1 zig-zags. The smoothing flattens it
+// but leaves the junction's ends on B where they are (moving one for one sheet's rim would pull
+// the others'), and S stays valid.
+TEST(RimSmoothing, WhereSheetsMeetBTheJunctionStays) {
+  const int cells = 6;
+  const ExteriorSurface b = make_exterior(pieces_test::box(glm::dvec3(-1.0, 0.0, -1.0), glm::dvec3(1.0, cells, 1.0), 6), "box");
+  FractureSurface s = example_t_junction(cells);
+  for (glm::vec4& p : s.positions)
+    if (std::abs(p.x) == 1.0f && p.y > 0.0f && p.y < float(cells)) p.z = int(p.y) % 2 ? kZig : -kZig;
+  ASSERT_EQ(validate(s), "");
+  const std::vector<glm::vec4> start = s.positions;
+  EXPECT_GT(smooth_rim(s, b, {.passes = 3}), 0u);
+  EXPECT_EQ(validate(s), "");
+  int junction_ends = 0;
+  double zig = 0.0;
+  for (std::size_t v = 0; v < s.positions.size(); ++v) {
+    if (!(s.vertex_flags[v] & kVertexBoundary)) continue;
+    EXPECT_LT(b.squared_distance(glm::dvec3(glm::vec3(s.positions[v]))), 1e-12) << "rim vertex " << v << " left B";
+    if (s.vertex_flags[v] & kVertexNonManifold) {
+      EXPECT_EQ(s.positions[v], start[v]) << "junction end " << v << " moved";
+      ++junction_ends;
+    }
+    if (std::abs(start[v].x) == 1.0f) zig = std::max(zig, std::abs(double(s.positions[v].z)));
+  }
+  EXPECT_EQ(junction_ends, 2);
+  EXPECT_LT(zig, 0.5 * kZig);
 }
 
 }  // namespace fracref
