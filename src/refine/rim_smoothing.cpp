@@ -10,24 +10,18 @@
 namespace fracref {
 namespace {
 
-constexpr std::uint32_t kNone = ~0u;
-
-// Per vertex, its two neighbours along the rim; kNone for a vertex that is not on exactly two
-// boundary edges, or that is on a junction (where sheets meet B together: moving it for one
-// sheet's rim would pull the others').
-std::vector<glm::uvec2> rim_neighbours(const FractureSurface& s) {
-  std::vector<glm::uvec2> nb(s.positions.size(), glm::uvec2(kNone));
-  std::vector<int> count(s.positions.size(), 0);
+// Per rim vertex, its neighbours along the rim: two inside a sheet's rim, one per sheet's rim
+// where sheets meet B together (a junction's end, which then moves to the mean of them all, the
+// sheets' rims with it); empty for a vertex on fewer than two boundary edges.
+std::vector<std::vector<std::uint32_t>> rim_neighbours(const FractureSurface& s) {
+  std::vector<std::vector<std::uint32_t>> nb(s.positions.size());
   for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
     if (s.edge_special[e] != kEdgeBoundary) continue;
     const glm::uvec2 ab = s.edges[e];
-    for (const auto& [v, w] : {std::pair{ab.x, ab.y}, std::pair{ab.y, ab.x}}) {
-      if (count[v] < 2) nb[v][count[v]] = w;
-      ++count[v];
-    }
+    nb[ab.x].push_back(ab.y), nb[ab.y].push_back(ab.x);
   }
-  for (std::size_t v = 0; v < nb.size(); ++v)
-    if (count[v] != 2 || (s.vertex_flags[v] & kVertexNonManifold)) nb[v] = glm::uvec2(kNone);
+  for (std::vector<std::uint32_t>& n : nb)
+    if (n.size() < 2) n.clear();
   return nb;
 }
 
@@ -46,16 +40,18 @@ bool face_keeps_shape(const glm::uvec4& f, const std::vector<glm::vec4>& x0, con
   return glm::dot(n0, n1) >= std::cos(glm::radians(o.max_turn_degrees)) * a0 * a1;
 }
 
-// The pass's proposed positions: each rim vertex toward its neighbours' midpoint, onto B; not one
+// The pass's proposed positions: each rim vertex toward its rim neighbours' mean, onto B; not one
 // whose target lies far off B for the length of its move (its rim turns round a crease of B,
 // whose corner it would cut).
-std::vector<glm::vec4> proposed(const std::vector<glm::vec4>& x0, const std::vector<glm::uvec2>& nb,
+std::vector<glm::vec4> proposed(const std::vector<glm::vec4>& x0, const std::vector<std::vector<std::uint32_t>>& nb,
                                 const ExteriorSurface& b, const RimSmoothingOptions& o) {
   std::vector<glm::vec4> x1 = x0;
   for (std::size_t v = 0; v < nb.size(); ++v) {
-    if (nb[v].x == kNone) continue;
+    if (nb[v].empty()) continue;
     const glm::dvec3 p = point(x0, std::uint32_t(v));
-    const glm::dvec3 target = p + o.weight * (0.5 * (point(x0, nb[v].x) + point(x0, nb[v].y)) - p);
+    glm::dvec3 mean(0.0);
+    for (const std::uint32_t w : nb[v]) mean += point(x0, w);
+    const glm::dvec3 target = p + o.weight * (mean / double(nb[v].size()) - p);
     const glm::dvec3 q = b.closest_point(target);
     if (glm::distance(q, target) <= o.max_off_b * glm::distance(target, p)) x1[v] = glm::vec4(glm::vec3(q), 1.0f);
   }
@@ -129,7 +125,7 @@ void hold_bad_faces(FractureSurface& s, const ExteriorSurface& b, const std::vec
 
 std::size_t smooth_rim(FractureSurface& s, const ExteriorSurface& b, const RimSmoothingOptions& o) {
   if (o.passes <= 0) return 0;
-  const std::vector<glm::uvec2> nb = rim_neighbours(s);
+  const std::vector<std::vector<std::uint32_t>> nb = rim_neighbours(s);
   std::size_t moves = 0;
   for (int pass = 0; pass < o.passes; ++pass) {
     const std::vector<glm::vec4> x0 = s.positions;

@@ -11,7 +11,7 @@ namespace fracref {
 
 struct RimSmoothingOptions {
   int passes = 0;                ///< rounds of smoothing; 0 = off
-  double weight = 0.5;           ///< each pass moves a rim vertex this fraction of the way to its rim neighbours' midpoint
+  double weight = 0.5;           ///< each pass moves a rim vertex this fraction of the way to its rim neighbours' mean
   double max_turn_degrees = 80.0;  ///< a face around a moved vertex may turn its normal by at most this
   double min_area_ratio = 0.2;   ///< ... and keep at least this fraction of its area
   double max_crease_degrees = 120.0;  ///< and no edge between two faces may bend further than this, unless it already did
@@ -20,8 +20,9 @@ struct RimSmoothingOptions {
   double max_off_b = 0.5;
 };
 
-/// Moves each rim vertex of S (a vertex on exactly two boundary edges and on no junction) the
-/// options.weight fraction of the way to the midpoint of its two rim neighbours, then to B's
+/// Moves each rim vertex of S (a vertex on two or more boundary edges: inside a sheet's rim, or
+/// a junction's end where sheets meet B together) the options.weight fraction of the way to the
+/// mean of its rim neighbours, then to B's
 /// closest point (unless that target lies off B by more than max_off_b of the move's length),
 /// options.passes times (every vertex of a pass from the positions before it, so
 /// the result does not depend on the order). A vertex stays where a face with a moved corner
