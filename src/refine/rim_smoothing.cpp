@@ -97,8 +97,8 @@ std::vector<char> faces_meeting_exterior(const FractureSurface& s, const Exterio
 }
 
 // Holds back (at x0) the moved corners of every face with a moved corner that fails a check at
-// x1 (and of its neighbour across an edge that folds). S's positions
-// are x1 on return.
+// x1 (and of its neighbour across an edge that folds). S's positions are x1 as it was on entry
+// (face_meets_exterior reads them); smooth_rim sets them once the checks settle.
 void hold_bad_faces(FractureSurface& s, const ExteriorSurface& b, const std::vector<glm::vec4>& x0,
                     std::vector<glm::vec4>& x1, const std::vector<char>& met, const RimSmoothingOptions& o) {
   s.positions = x1;
@@ -118,7 +118,6 @@ void hold_bad_faces(FractureSurface& s, const ExteriorSurface& b, const std::vec
     for (int c = 0; c < 3; ++c) hold.push_back(t[c]);
   }
   for (const std::uint32_t v : hold) x1[v] = x0[v];
-  s.positions = x1;
 }
 
 }  // namespace
