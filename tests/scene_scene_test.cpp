@@ -61,7 +61,8 @@ const char* kComplete = R"({
   "pyramid": {"levels": 6, "sigma": 1.5},
   "refine": {"tau": 0.003, "delta": 0.005, "step": 0.01, "tolerance": 1e-6, "max_iterations": 0,
              "max_triangles": 1000, "seed": 42, "min_angle": 0, "collisions": false,
-             "rim_motion": true, "tangential_motion": false, "relax": 0.25, "rim_smoothing": 3},
+             "rim_motion": true, "tangential_motion": false, "relax": 0.25, "rim_smoothing": 3,
+             "fold_solves": 3},
   "output": {"ply": false, "obj": true, "glb": false, "frames": false, "frames_format": "obj", "preview": false, "preview_frames": 12}
 })";
 
@@ -106,6 +107,7 @@ TEST(ParseScene, CompleteSceneHasExactValues) {
   EXPECT_FALSE(s.refine.tangential_motion);
   EXPECT_EQ(s.refine.relax, 0.25);
   EXPECT_EQ(s.refine.rim_smoothing, 3);
+  EXPECT_EQ(s.refine.fold_solves, 3);
   EXPECT_FALSE(s.output.ply);
   EXPECT_TRUE(s.output.obj);
   EXPECT_FALSE(s.output.glb);
@@ -147,6 +149,7 @@ TEST(ParseScene, DefaultsAreTheDocumentedOnes) {
   EXPECT_TRUE(s.refine.tangential_motion);
   EXPECT_EQ(s.refine.relax, 0.0);
   EXPECT_EQ(s.refine.rim_smoothing, 0);
+  EXPECT_EQ(s.refine.fold_solves, 1);
   EXPECT_TRUE(s.output.ply && s.output.obj && s.output.glb && s.output.preview);
   EXPECT_FALSE(s.output.frames);  // frames/ only on request
   EXPECT_EQ(s.output.frames_format, "bin");
@@ -308,6 +311,8 @@ TEST(SceneErrors, OutOfRange) {
             "/jobs/bunny/scene.json: key 'refine.relax': must be in [0, 1], got 1.5");
   EXPECT_EQ(patched_error(R"({"refine": {"rim_smoothing": -1}})"),
             "/jobs/bunny/scene.json: key 'refine.rim_smoothing': must be an integer in [0, 1000], got -1");
+  EXPECT_EQ(patched_error(R"({"refine": {"fold_solves": 0}})"),
+            "/jobs/bunny/scene.json: key 'refine.fold_solves': must be an integer in [1, 8], got 0");
   EXPECT_EQ(patched_error(R"({"pyramid": {"levels": 9}})"),
             "/jobs/bunny/scene.json: key 'pyramid.levels': must be an integer in [1, 8], got 9");
   EXPECT_EQ(patched_error(R"({"field": {"resolution": [1, 50, 50]}})"),

@@ -273,6 +273,7 @@ TEST(ScenegenDemo, Branch) {
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(32, 32, 64));
   EXPECT_EQ(d.scene.refine.tau, 2e-8);
   EXPECT_EQ(d.scene.refine.rim_smoothing, 3);
+  EXPECT_EQ(d.scene.refine.fold_solves, 1);  // no creases to remove
   EXPECT_EQ(d.scene.refine.delta, 5e-5);
   ASSERT_FALSE(d.scene.fracture.cracks.empty());
   // The cut splinters: its faces reach well off the middle along the axis, and walls along the
@@ -305,6 +306,7 @@ TEST(ScenegenDemo, Wall) {
   EXPECT_FALSE(d.scene.refine.tangential_motion);
   EXPECT_EQ(d.scene.refine.tau, 1.2e-7);
   EXPECT_EQ(d.scene.refine.rim_smoothing, 0);  // its coarse rim steps along the brick courses
+  EXPECT_EQ(d.scene.refine.fold_solves, 2);
   EXPECT_EQ(d.scene.refine.delta, 9e-4);
   EXPECT_EQ(d.scene.refine.tolerance, 2e-4);
   EXPECT_EQ(d.scene.field.padding, 0.0);
@@ -331,8 +333,9 @@ TEST(ScenegenDemo, Clay) {
   // within reach.
   EXPECT_EQ(d.scene.refine.tau, 5e-6);
   EXPECT_EQ(d.scene.refine.rim_smoothing, 2);
+  EXPECT_EQ(d.scene.refine.fold_solves, 2);
   EXPECT_EQ(d.scene.refine.delta, 5e-5);
-  EXPECT_EQ(d.scene.refine.tolerance, 2e-4);
+  EXPECT_EQ(d.scene.refine.tolerance, 5e-4);
   check_backward_remeshing(d);
   // Large twisting before anything tears (late: from frame 30).
   EXPECT_GT(largest_motion(d, 29), 0.5);
@@ -347,6 +350,7 @@ TEST(ScenegenDemo, Jello) {
   EXPECT_EQ(d.scene.field.type, FieldType::inclusions);
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(64, 64, 32));
   EXPECT_EQ(d.scene.refine.rim_smoothing, 2);
+  EXPECT_EQ(d.scene.refine.fold_solves, 2);
   check_backward_remeshing(d);
   // Gradual: the cracks open at several different frames.
   std::size_t steps = 0;
@@ -444,6 +448,7 @@ TEST(ScenegenDemo, Bunny) {
   EXPECT_EQ(d.scene.refine.tau, 1.2e-7);
   EXPECT_EQ(d.scene.refine.delta, 1e-4);
   EXPECT_EQ(d.scene.refine.rim_smoothing, 2);
+  EXPECT_EQ(d.scene.refine.fold_solves, 2);
   ASSERT_EQ(d.scene.animation.kind, AnimationKind::rigid);
   EXPECT_EQ(folder_bytes(folder.path())["bunny.obj"], folder_bytes(bunny.parent_path())[bunny.filename().string()]);
   // The pieces fall: every piece is lower at the end.

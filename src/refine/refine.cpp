@@ -48,33 +48,52 @@ StepGuardOptions Refiner::step_guard_options() const {
   return g;
 }
 
-// Takes the step when it brings E to at most `ceiling` (backtracking as above) and sets st.energy
-// to the new E; false when no step does, S then unchanged. `start` is E at the current positions.
-// \pre samples_ and velocity_ are those of the current positions (run() evaluates after every
-// edit; each evaluation is a kernel call, with a fixed cost on Vulkan).
-bool Refiner::flow_step(double start, double ceiling, IterationStats& st) {
-  const double e0 = ceiling;
-  const std::vector<glm::dmat3> filter = motion_filters(
-      s_, b_, {.rim_motion = o_.rim_motion, .tangential = o_.tangential_motion, .threads = default_threads()});
-  std::vector<glm::dvec3> d(s_.positions.size());
-  for (std::size_t i = 0; i < d.size() && i < last_move_.size(); ++i) d[i] = glm::dvec3(last_move_[i]);
-  st.solver_iterations = implicit_step(view(), samples_, velocity_, dt_, filter, d, {.threads = default_threads()}).iterations;
-  add_tangential_relaxation(s_, s_.positions, d, {.fraction = o_.relax, .threads = default_threads()});
-  const std::vector<glm::vec4> x0 = s_.positions;
+// x0 + d, with the corners of the faces the contact rule flags at x0 kept (see flow_step), the
+// boundary constraint applied, and with rim_motion the slid rim snapped.
+std::vector<glm::vec4> Refiner::constrained_motion(const std::vector<glm::vec4>& x0, const std::vector<glm::dvec3>& d,
+                                                   const std::vector<std::uint32_t>& flagged) {
   std::vector<glm::vec4> full = x0;
   for (std::size_t i = 0; i < x0.size(); ++i) full[i] = glm::vec4(glm::vec3(x0[i]) + glm::vec3(d[i]), 1.0f);
   // A face the contact rule flags at x0 already must not move (new_crossings): its corners stay
   // in the full step, and so in every shorter one. Held only where the full step leaves it
   // flagged, a face that the full step frees holds back every shorter step, which still flags it.
-  for (const std::uint32_t f : flagged_faces(x0, clearance_))
+  for (const std::uint32_t f : flagged)
     for (int k = 0; k < 3; ++k) full[s_.faces[f][k]] = x0[s_.faces[f][k]];
   apply_boundary_constraint(s_, b_, x0, full);
   if (o_.rim_motion) {
     snap_slid_rim(full);
     hold_rim_degeneracies(x0, full);
   }
+  return full;
+}
+
+// Takes the step when it brings E to at most `ceiling` (backtracking as above) and sets st.energy
+// to the new E; false when no step does, S then unchanged. `start` is E at the current positions.
+// \pre samples_ and velocity_ are those of the current positions (run() evaluates after every
+// edit; each evaluation is a kernel call, with a fixed cost on Vulkan).
+bool Refiner::flow_step(double start, double ceiling, IterationStats& st) {
+  const double e0 = ceiling;
+  std::vector<glm::dmat3> filter = motion_filters(
+      s_, b_, {.rim_motion = o_.rim_motion, .tangential = o_.tangential_motion, .threads = default_threads()});
+  std::vector<glm::dvec3> d(s_.positions.size());
+  for (std::size_t i = 0; i < d.size() && i < last_move_.size(); ++i) d[i] = glm::dvec3(last_move_[i]);
+  const std::vector<glm::vec4> x0 = s_.positions;
+  const std::vector<std::uint32_t> flagged = flagged_faces(x0, clearance_);
   const StepGuardOptions guard = step_guard_options();
-  hold_folding_motion(s_, x0, full, guard);
+  std::vector<glm::vec4> full;
+  for (int round = 0;; ++round) {
+    st.solver_iterations += implicit_step(view(), samples_, velocity_, dt_, filter, d, {.threads = default_threads()}).iterations;
+    std::vector<glm::dvec3> moved = d;
+    add_tangential_relaxation(s_, s_.positions, moved, {.fraction = o_.relax, .threads = default_threads()});
+    full = constrained_motion(x0, moved, flagged);
+    const std::vector<glm::vec4> unguarded = full;
+    hold_folding_motion(s_, x0, full, guard);
+    if (full == unguarded || round + 1 >= o_.fold_solves) break;
+    // The vertices the guard held stay where they are in a new solve, so that their neighbours
+    // take the step's quadratic's best motion around them instead of leaving a crease.
+    for (std::size_t i = 0; i < full.size(); ++i)
+      if (full[i] != unguarded[i]) filter[i] = glm::dmat3(0.0), d[i] = glm::dvec3(0.0);
+  }
   const auto t_ccd = Clock::now();
   const std::vector<float> clearance_x0 = clearance_;
   StepCollisions collisions(s_, b_, x0);

@@ -49,6 +49,13 @@ struct RefineOptions {
   /// rim vertex along B half-way to its rim neighbours' midpoint, so the outline loses the coarse
   /// tetrahedra's zig-zag; 0 = off (the rim stays where the coarse surface meets B).
   int rim_smoothing = 0;
+  /// Solves per flow step, in [1, 8]. Where the step would fold a face, the fold guard holds its
+  /// corners where they are (refine/step_guard.hpp); with more than one solve, the step is then
+  /// solved again with those vertices fixed, so their neighbours take the best motion around them
+  /// instead of leaving a crease, until the guard holds nothing more or the solves run out (the
+  /// guard still holds what the last one folds). 1 = one solve (the held vertices' neighbours
+  /// move as if they had not been held).
+  int fold_solves = 1;
 };
 
 /// What one iteration did (report.json's `iterations` list).

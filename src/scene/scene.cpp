@@ -163,6 +163,7 @@ RefineSpec read_refine(ObjectReader r) {
   f.tangential_motion = r.boolean("tangential_motion", f.tangential_motion);
   f.relax = r.number("relax", f.relax, Range::closed(0.0, 1.0));
   f.rim_smoothing = int(r.integer("rim_smoothing", f.rim_smoothing, {0, 1000}));
+  f.fold_solves = int(r.integer("fold_solves", f.fold_solves, {1, 8}));
   r.finish();
   return f;
 }
