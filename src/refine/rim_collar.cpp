@@ -29,6 +29,16 @@ double shortest_rim_edge(const FractureSurface& s, std::uint32_t p) {
   return shortest;
 }
 
+// Whether q lies within `gap` of the third corner of a face on edge e.
+bool lands_by_a_corner(const FractureSurface& s, std::uint32_t e, const glm::dvec3& q, double gap) {
+  const glm::uvec2 ab = s.edges[e];
+  for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) {
+    const glm::uvec4 f = s.faces[s.ef_faces[k]];
+    if (glm::length(at(s, f.x + f.y + f.z - ab.x - ab.y) - q) < gap) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 std::size_t collar_rim(FractureSurface& s, RefinementTree& tree, const rim::ExteriorMesh& exterior, const rim::RimOnB& rim,
@@ -68,6 +78,10 @@ std::size_t collar_rim(FractureSurface& s, RefinementTree& tree, const rim::Exte
         }
       q = stored_position(q);
       if (!point_in_mesh(exterior.bvh, q)) continue;
+      // Nor where the new vertex would land by the third corner of a face on the edge: that corner
+      // lies near the edge (two rim vertices' collars zig-zagging between them, pass after pass),
+      // and the split would leave a needle with an edge a float's rounding long.
+      if (lands_by_a_corner(s, e, q, o.min_gap * length)) continue;
       // The new faces must meet no other face of S (exact).
       const std::uint32_t id = guard.add_vertex(q);
       std::vector<TriangleIds> made_faces;

@@ -20,6 +20,9 @@ struct CollarOptions {
   double reach = 1.0;
   /// and this far under the tangent plane, as a fraction of its distance from the rim vertex.
   double depth = 0.2;
+  /// No split whose new vertex would lie closer than this fraction of the edge's length to the
+  /// third corner of a face on the edge (it would make a needle there).
+  double min_gap = 0.25;
   int passes = 8;  ///< rounds of splits (an edge split touches both its faces; one per face a round)
 };
 
