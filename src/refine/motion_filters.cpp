@@ -6,10 +6,11 @@ namespace fracref {
 namespace {
 
 // The unit tangent of the curve of `kind` edges (boundary or junction) through each vertex with
-// exactly two of them; zero elsewhere.
-std::vector<glm::dvec3> curve_tangents(const FractureSurface& s, EdgeKind kind) {
+// exactly two of them; zero elsewhere, and with `hairpins_free` also where the curve turns back
+// at the vertex (its two edges leave it less than 90 degrees apart).
+std::vector<glm::dvec3> curve_tangents(const FractureSurface& s, EdgeKind kind, bool hairpins_free) {
   std::vector<glm::dvec3> first(s.positions.size(), glm::dvec3(0.0)), tangent(s.positions.size(), glm::dvec3(0.0));
-  std::vector<std::uint8_t> count(s.positions.size(), 0);
+  std::vector<std::uint8_t> count(s.positions.size(), 0), first_out(s.positions.size(), 0);
   for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
     if (s.edge_special[e] != kind) continue;
     const glm::uvec2 ab = s.edges[e];
@@ -18,8 +19,14 @@ std::vector<glm::dvec3> curve_tangents(const FractureSurface& s, EdgeKind kind) 
     if (len == 0.0) continue;
     dir /= len;
     for (std::uint32_t v : {ab.x, ab.y}) {
-      if (count[v] < 255 && count[v]++ == 0) first[v] = dir;
-      else if (count[v] == 2) tangent[v] = glm::dot(first[v], dir) >= 0.0 ? first[v] + dir : first[v] - dir;
+      if (count[v] < 255 && count[v]++ == 0) {
+        first[v] = dir, first_out[v] = v == ab.x;
+      } else if (count[v] == 2) {
+        tangent[v] = glm::dot(first[v], dir) >= 0.0 ? first[v] + dir : first[v] - dir;
+        // The edges' directions away from v: dir leaves v from ab.x, first[v] from its own start.
+        const double out = glm::dot(first_out[v] ? first[v] : -first[v], v == ab.x ? dir : -dir);
+        if (hairpins_free && out > 0.0) tangent[v] = glm::dvec3(0.0);
+      }
     }
   }
   for (std::size_t v = 0; v < tangent.size(); ++v) {
@@ -55,14 +62,17 @@ glm::dmat3 off_line(const glm::dvec3& u) { return glm::dmat3(1.0) - glm::outerPr
 // pieces stage cannot yet cut B along a rim that wandered (its traces cross). With rim_motion a vertex on B slides on B across its rim curve
 // (along the curve it would bunch the rim into slivers that no flip can repair, as boundary edges
 // are special); one where the rim is not a simple curve slides on B freely. A junction vertex
-// moves across its junction curve.
+// moves across its junction curve, and freely where the curve turns back at it: held across a
+// hairpin's axis, its tip could not draw back, and it stayed behind as the sheets around it moved
+// on, a spike on the pieces (the clay's hairs: junction angles of 3 to 18 degrees).
 // Without options.tangential a sheet's vertex moves along its normal only. E's quadrature takes ψ
 // at the corners, so in a valley of ψ narrower than the triangles E also falls when vertices
 // slide along S into the valley without the surface moving: they bunch there, and the triangles
 // between them become slivers that the flips (near-coplanar only) cannot mend. Held to their
 // normals, they move the surface or stay (issue 28: the wall's brick-mortar interfaces).
 std::vector<glm::dmat3> motion_filters(const FractureSurface& s, const ExteriorSurface& b, const MotionFilterOptions& o) {
-  const std::vector<glm::dvec3> rim = curve_tangents(s, kEdgeBoundary), junction = curve_tangents(s, kEdgeNonManifold);
+  const std::vector<glm::dvec3> rim = curve_tangents(s, kEdgeBoundary, false),
+                                junction = curve_tangents(s, kEdgeNonManifold, true);
   std::vector<glm::dmat3> out(s.positions.size(), glm::dmat3(1.0));
   const std::vector<glm::dvec3> normal = o.tangential ? std::vector<glm::dvec3>{} : vertex_normals(s);
   parallel_chunks(out.size(), chunk_count(out.size(), 4096), o.threads, [&](std::size_t, std::size_t begin, std::size_t end) {

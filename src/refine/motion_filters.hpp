@@ -19,7 +19,8 @@ struct MotionFilterOptions {
 
 /// Per vertex of `s`: the identity inside a sheet, or with options.tangential off the line of its
 /// normal (the area-weighted mean of its faces' normals; the identity where they cancel);
-/// across the junction curve for a vertex on a non-manifold curve; for a vertex on B, zero, or
+/// across the junction curve for a vertex on a non-manifold curve (the identity where the curve
+/// turns back at it, its two edges less than 90 degrees apart); for a vertex on B, zero, or
 /// with rim_motion along B across the rim curve (along B freely where the rim is not a simple
 /// curve).
 /// \pre adjacency of s current.
