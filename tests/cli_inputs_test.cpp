@@ -108,12 +108,14 @@ TEST(CliInputs, GmshAndTetgenTetsWithRigidAndFrameAnimation) {
     refine_and_check(kInputs / (std::string(s) + ".json"), t.path / s);
 }
 
-// refine.rim_smoothing on tets from other meshers and on a Blender cell fracture: the pieces and
-// the animation still pass check, and on the tets the smoothing moves the rim.
+// refine.rim_smoothing and refine.fold_solves, as the demos set them, on tets from other meshers
+// and on a Blender cell fracture: the pieces and the animation still pass check, and on the tets
+// the smoothing moves the rim.
 TEST(CliInputs, TheRimSmoothedOnOtherToolsInputsGoesEndToEnd) {
   TempDir t;
   for (const char* s : {"gmsh_rigid", "tetgen_rigid", "cf_cube_default"})
-    refine_and_check(kInputs / (std::string(s) + ".json"), t.path / s, " --set refine.rim_smoothing=2");
+    refine_and_check(kInputs / (std::string(s) + ".json"), t.path / s,
+                     " --set refine.rim_smoothing=2 --set refine.fold_solves=2");
   refine_and_check(kInputs / "tetgen_rigid.json", t.path / "plain");
   EXPECT_NE(slurp(t.path / "tetgen_rigid" / "fracture_surface.ply"), slurp(t.path / "plain" / "fracture_surface.ply"));
 }
