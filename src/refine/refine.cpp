@@ -67,33 +67,39 @@ std::vector<glm::vec4> Refiner::constrained_motion(const std::vector<glm::vec4>&
   return full;
 }
 
+// The step's motion from x0, the fold guard's holds made (flow_step then makes the collisions').
+// With fold_solves > 1, the vertices the guard held stay where they are in a new solve, so that
+// their neighbours take the step's quadratic's best motion around them instead of leaving a
+// crease; until the guard holds nothing more or the solves run out.
+std::vector<glm::vec4> Refiner::folding_held_motion(const std::vector<glm::vec4>& x0, const StepGuardOptions& guard,
+                                                    IterationStats& st) {
+  std::vector<glm::dmat3> filter = motion_filters(
+      s_, b_, {.rim_motion = o_.rim_motion, .tangential = o_.tangential_motion, .threads = default_threads()});
+  std::vector<glm::dvec3> d(x0.size());
+  for (std::size_t i = 0; i < d.size() && i < last_move_.size(); ++i) d[i] = glm::dvec3(last_move_[i]);
+  const std::vector<std::uint32_t> flagged = flagged_faces(x0, clearance_);
+  for (int round = 0;; ++round) {
+    st.solver_iterations += implicit_step(view(), samples_, velocity_, dt_, filter, d, {.threads = default_threads()}).iterations;
+    std::vector<glm::dvec3> moved = d;
+    add_tangential_relaxation(s_, s_.positions, moved, {.fraction = o_.relax, .threads = default_threads()});
+    std::vector<glm::vec4> full = constrained_motion(x0, moved, flagged);
+    const std::vector<glm::vec4> unguarded = full;
+    hold_folding_motion(s_, x0, full, guard);
+    if (full == unguarded || round + 1 >= o_.fold_solves) return full;
+    for (std::size_t i = 0; i < full.size(); ++i)
+      if (full[i] != unguarded[i]) filter[i] = glm::dmat3(0.0), d[i] = glm::dvec3(0.0);
+  }
+}
+
 // Takes the step when it brings E to at most `ceiling` (backtracking as above) and sets st.energy
 // to the new E; false when no step does, S then unchanged. `start` is E at the current positions.
 // \pre samples_ and velocity_ are those of the current positions (run() evaluates after every
 // edit; each evaluation is a kernel call, with a fixed cost on Vulkan).
 bool Refiner::flow_step(double start, double ceiling, IterationStats& st) {
   const double e0 = ceiling;
-  std::vector<glm::dmat3> filter = motion_filters(
-      s_, b_, {.rim_motion = o_.rim_motion, .tangential = o_.tangential_motion, .threads = default_threads()});
-  std::vector<glm::dvec3> d(s_.positions.size());
-  for (std::size_t i = 0; i < d.size() && i < last_move_.size(); ++i) d[i] = glm::dvec3(last_move_[i]);
   const std::vector<glm::vec4> x0 = s_.positions;
-  const std::vector<std::uint32_t> flagged = flagged_faces(x0, clearance_);
   const StepGuardOptions guard = step_guard_options();
-  std::vector<glm::vec4> full;
-  for (int round = 0;; ++round) {
-    st.solver_iterations += implicit_step(view(), samples_, velocity_, dt_, filter, d, {.threads = default_threads()}).iterations;
-    std::vector<glm::dvec3> moved = d;
-    add_tangential_relaxation(s_, s_.positions, moved, {.fraction = o_.relax, .threads = default_threads()});
-    full = constrained_motion(x0, moved, flagged);
-    const std::vector<glm::vec4> unguarded = full;
-    hold_folding_motion(s_, x0, full, guard);
-    if (full == unguarded || round + 1 >= o_.fold_solves) break;
-    // The vertices the guard held stay where they are in a new solve, so that their neighbours
-    // take the step's quadratic's best motion around them instead of leaving a crease.
-    for (std::size_t i = 0; i < full.size(); ++i)
-      if (full[i] != unguarded[i]) filter[i] = glm::dmat3(0.0), d[i] = glm::dvec3(0.0);
-  }
+  std::vector<glm::vec4> full = folding_held_motion(x0, guard, st);
   const auto t_ccd = Clock::now();
   const std::vector<float> clearance_x0 = clearance_;
   StepCollisions collisions(s_, b_, x0);

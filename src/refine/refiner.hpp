@@ -75,6 +75,8 @@ class Refiner {
   // Containment splits: lengths in the scene's unit, nothing split below the sample spacing.
   TuckOptions tuck_options() const { return {.scale = o_.scale, .min_edge = o_.delta}; }
   bool flow_step(double start, double ceiling, IterationStats& st);
+  std::vector<glm::vec4> folding_held_motion(const std::vector<glm::vec4>& x0, const StepGuardOptions& guard,
+                                             IterationStats& st);
   std::vector<glm::vec4> constrained_motion(const std::vector<glm::vec4>& x0, const std::vector<glm::dvec3>& d,
                                             const std::vector<std::uint32_t>& flagged);
   std::size_t refine_step(std::uint32_t iteration, bool propagate, std::size_t& graded);
