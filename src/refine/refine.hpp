@@ -54,8 +54,8 @@ struct RefineOptions {
   /// solved again with those vertices fixed, so their neighbours take the best motion around them
   /// instead of leaving a crease, until the guard holds nothing more or the solves run out (the
   /// guard still holds what the last one folds). 1 = one solve (the held vertices' neighbours
-  /// move as if they had not been held).
-  int fold_solves = 1;
+  /// move as if they had not been held, and fold into creases round them).
+  int fold_solves = 2;
 };
 
 /// What one iteration did (report.json's `iterations` list).

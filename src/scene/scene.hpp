@@ -76,7 +76,7 @@ struct RefineSpec {
   bool tangential_motion = true;  ///< a vertex inside a sheet moves along S too (else along its normal)
   double relax = 0.0;           ///< in [0, 1]: tangential relaxation of the sheets' vertices per step (0: off)
   int rim_smoothing = 0;        ///< passes of rim smoothing on B before the flow (0: off)
-  int fold_solves = 1;          ///< in [1, 8]: solves per flow step, held vertices fixed after the first
+  int fold_solves = 2;          ///< in [1, 8]: solves per flow step, held vertices fixed after the first
 };
 
 struct OutputSpec {
