@@ -61,17 +61,11 @@ std::vector<glm::vec4> proposed(const std::vector<glm::vec4>& x0, const std::vec
 // The cosine of the angle between the normals of edge e's two faces at x, the second's normal
 // turned where the faces wind the edge the same way (two sheets' windings may differ).
 double crease_cosine(const FractureSurface& s, std::uint32_t e, const std::vector<glm::vec4>& x) {
-  const glm::uvec4 f = s.faces[s.ef_faces[s.ef_offsets[e]]], g = s.faces[s.ef_faces[s.ef_offsets[e] + 1]];
-  const glm::uvec2 ab = s.edges[e];
-  auto forward = [&](const glm::uvec4& t) {  // whether t runs a -> b
-    for (int c = 0; c < 3; ++c)
-      if (t[c] == ab.x && t[(c + 1) % 3] == ab.y) return true;
-    return false;
-  };
-  const glm::dvec3 nf = area_normal(x, f), ng = area_normal(x, g);
+  const std::uint32_t f = s.ef_faces[s.ef_offsets[e]], g = s.ef_faces[s.ef_offsets[e] + 1];
+  const glm::dvec3 nf = area_normal(x, s.faces[f]), ng = area_normal(x, s.faces[g]);
   const double len = glm::length(nf) * glm::length(ng);
   if (len == 0.0) return -1.0;
-  return (forward(f) == forward(g) ? -1.0 : 1.0) * glm::dot(nf, ng) / len;
+  return (traverses_forward(s, f, e) == traverses_forward(s, g, e) ? -1.0 : 1.0) * glm::dot(nf, ng) / len;
 }
 
 // Whether edge e, between two faces, becomes a sharper crease than max_crease_degrees and than

@@ -163,6 +163,11 @@ std::vector<std::array<std::uint32_t, 3>> face_triangles(const FractureSurface& 
 /// The id of the undirected edge {a, b}, or kNoEdge. O(log edges). \pre adjacency is current.
 std::uint32_t find_edge(const FractureSurface& s, std::uint32_t a, std::uint32_t b);
 
+/// Whether face f traverses edge e from its smaller vertex to its larger one (two faces wind a
+/// manifold edge consistently when they traverse it in opposite directions). \pre f has both of
+/// e's vertices (false when it lacks the smaller one).
+bool traverses_forward(const FractureSurface& s, std::uint32_t f, std::uint32_t e);
+
 /// The piece of each side component, or -1 for a component whose sides carry different pieces
 /// (which validate() reports). \pre adjacency is current.
 std::vector<int> component_pieces(const FractureSurface& s);

@@ -43,16 +43,6 @@ void join_non_manifold(const FractureSurface& s, std::uint32_t e, std::vector<Si
 
 }  // namespace
 
-// From the face's corners alone (the edge table is read in order by the callers): looking the
-// edge up in face_edges cost another random access per call, a quarter of validate().
-bool traverses_forward(const FractureSurface& s, std::uint32_t f, std::uint32_t e) {
-  const glm::uvec4 face = s.faces[f];
-  const glm::uvec2 ab = s.edges[e];
-  for (int i = 0; i < 3; ++i)
-    if (face[i] == ab.x) return face[(i + 1) % 3] == ab.y;
-  return false;
-}
-
 std::vector<SideJoin> side_joins(const FractureSurface& s) {
   std::vector<SideJoin> joins;
   joins.reserve(s.ef_faces.size());
@@ -86,3 +76,17 @@ void build_components(FractureSurface& s) {
 }
 
 }  // namespace fracref::surface_detail
+
+namespace fracref {
+
+// From the face's corners alone (the edge table is read in order by the callers): looking the
+// edge up in face_edges cost another random access per call, a quarter of validate().
+bool traverses_forward(const FractureSurface& s, std::uint32_t f, std::uint32_t e) {
+  const glm::uvec4 face = s.faces[f];
+  const glm::uvec2 ab = s.edges[e];
+  for (int i = 0; i < 3; ++i)
+    if (face[i] == ab.x) return face[(i + 1) % 3] == ab.y;
+  return false;
+}
+
+}  // namespace fracref

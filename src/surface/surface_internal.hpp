@@ -35,10 +35,6 @@ std::vector<SideJoin> side_joins(const FractureSurface& s);
 /// earlier face f already has, or "". \pre indices in range.
 std::string first_duplicate_face(const std::vector<glm::uvec4>& faces);
 
-/// Whether face f traverses edge e from its smaller vertex to its larger one. \pre f has both
-/// of e's vertices (false when it lacks the smaller one).
-bool traverses_forward(const FractureSurface& s, std::uint32_t f, std::uint32_t e);
-
 /// How many edge-connected fans the faces around vertex v form. \pre vf and edges built.
 std::uint32_t fan_count(const FractureSurface& s, std::uint32_t v, std::vector<glm::uvec2>& scratch);
 

@@ -11,8 +11,6 @@
 namespace fracref {
 namespace {
 
-using surface_detail::traverses_forward;
-
 std::string str(std::size_t x) { return std::to_string(x); }
 std::string count_text(std::size_t n, const std::string& noun) { return str(n) + " " + noun + (n == 1 ? "" : "s"); }
 std::string edge_text(glm::uvec2 e) { return str(e.x) + "-" + str(e.y); }
