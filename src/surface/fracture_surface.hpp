@@ -190,6 +190,14 @@ std::string validate(const FractureSurface& s);
 /// \pre the adjacency was rebuilt after the last change to s.
 std::string validate_rebuilt(const FractureSurface& s);
 
+/// validate()'s checks of one edge at a time, at `edges` only: each piece's outward faces close up
+/// at the edge (none, two in opposite directions, or one on a boundary edge), and the faces around
+/// it join only sides of the same piece (the order of the sheets around a junction edge keeps the
+/// pieces apart). "" when they hold, else one message naming the edge. For an edit that changes S
+/// only at those edges, judged without a rebuild of the whole surface.
+/// \pre the edge table (edges, ef, edge_special) current; indices in range.
+std::string validate_edges(const FractureSurface& s, std::span<const std::uint32_t> edges);
+
 /// validate(), throwing its message. For use after mutations in tests and debug builds.
 /// \throw RunError with validate()'s message when an invariant is broken.
 void validate_or_throw(const FractureSurface& s);

@@ -43,14 +43,16 @@ void join_non_manifold(const FractureSurface& s, std::uint32_t e, std::vector<Si
 
 }  // namespace
 
+void side_joins_at(const FractureSurface& s, std::uint32_t e, std::vector<SideJoin>& joins) {
+  const std::uint32_t n = s.ef_offsets[e + 1] - s.ef_offsets[e];
+  if (n == 2) join_regular(s, e, joins);
+  else if (n >= 3) join_non_manifold(s, e, joins);
+}
+
 std::vector<SideJoin> side_joins(const FractureSurface& s) {
   std::vector<SideJoin> joins;
   joins.reserve(s.ef_faces.size());
-  for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
-    const std::uint32_t n = s.ef_offsets[e + 1] - s.ef_offsets[e];
-    if (n == 2) join_regular(s, e, joins);
-    else if (n >= 3) join_non_manifold(s, e, joins);
-  }
+  for (std::uint32_t e = 0; e < s.edges.size(); ++e) side_joins_at(s, e, joins);
   return joins;
 }
 

@@ -30,6 +30,8 @@ struct SideJoin {
 };
 /// Every join, in edge order, as build_components() uses them. \pre edges built.
 std::vector<SideJoin> side_joins(const FractureSurface& s);
+/// The joins across edge e, appended to `joins`. \pre edges built.
+void side_joins_at(const FractureSurface& s, std::uint32_t e, std::vector<SideJoin>& joins);
 
 /// "face g: duplicate of face f (vertices a b c)" for the lowest face g whose vertex set an
 /// earlier face f already has, or "". \pre indices in range.

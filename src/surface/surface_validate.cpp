@@ -260,27 +260,31 @@ std::string check_component_pieces(const FractureSurface& s) {
 
 // Each piece's outward faces must close up at every edge: none, a consistently wound pair, or one
 // face on the exterior boundary.
-std::string check_piece_edges(const FractureSurface& s) {
-  std::vector<std::pair<int, bool>> uses_here;  // (piece, outward face runs a -> b)
-  for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
-    uses_here.clear();
-    for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) {
-      const std::uint32_t f = s.ef_faces[k];
-      const bool forward = traverses_forward(s, f, e);
-      uses_here.emplace_back(s.face_pieces[f].x, !forward);
-      uses_here.emplace_back(s.face_pieces[f].y, forward);
-    }
-    std::sort(uses_here.begin(), uses_here.end());
-    for (std::size_t k = 0; k < uses_here.size();) {
-      const int p = uses_here[k].first;
-      int count[2] = {0, 0};
-      for (; k < uses_here.size() && uses_here[k].first == p; ++k) ++count[uses_here[k].second];
-      auto at = [&] { return "piece " + std::to_string(p) + ": edge " + edge_text(s.edges[e]); };
-      if (count[0] >= 2 || count[1] >= 2) return at() + " used by its outward faces in the same direction twice";
-      if (count[0] + count[1] == 1 && s.edge_special[e] != kEdgeBoundary)
-        return at() + " has a single outward face but is not a boundary edge";
-    }
+std::string piece_edge_problem(const FractureSurface& s, std::uint32_t e, std::vector<std::pair<int, bool>>& uses_here) {
+  uses_here.clear();  // (piece, outward face runs a -> b)
+  for (std::uint32_t k = s.ef_offsets[e]; k < s.ef_offsets[e + 1]; ++k) {
+    const std::uint32_t f = s.ef_faces[k];
+    const bool forward = traverses_forward(s, f, e);
+    uses_here.emplace_back(s.face_pieces[f].x, !forward);
+    uses_here.emplace_back(s.face_pieces[f].y, forward);
   }
+  std::sort(uses_here.begin(), uses_here.end());
+  for (std::size_t k = 0; k < uses_here.size();) {
+    const int p = uses_here[k].first;
+    int count[2] = {0, 0};
+    for (; k < uses_here.size() && uses_here[k].first == p; ++k) ++count[uses_here[k].second];
+    auto at = [&] { return "piece " + std::to_string(p) + ": edge " + edge_text(s.edges[e]); };
+    if (count[0] >= 2 || count[1] >= 2) return at() + " used by its outward faces in the same direction twice";
+    if (count[0] + count[1] == 1 && s.edge_special[e] != kEdgeBoundary)
+      return at() + " has a single outward face but is not a boundary edge";
+  }
+  return "";
+}
+
+std::string check_piece_edges(const FractureSurface& s) {
+  std::vector<std::pair<int, bool>> scratch;
+  for (std::uint32_t e = 0; e < s.edges.size(); ++e)
+    if (std::string m = piece_edge_problem(s, e, scratch); !m.empty()) return m;
   return "";
 }
 
@@ -335,5 +339,21 @@ std::string first_problem(const FractureSurface& s, Check derived) {
 std::string validate(const FractureSurface& s) { return first_problem(s, check_derived); }
 
 std::string validate_rebuilt(const FractureSurface& s) { return first_problem(s, check_derived_shapes); }
+
+std::string validate_edges(const FractureSurface& s, std::span<const std::uint32_t> edges) {
+  std::vector<std::pair<int, bool>> scratch;
+  std::vector<surface_detail::SideJoin> joins;
+  for (const std::uint32_t e : edges) {
+    if (std::string m = piece_edge_problem(s, e, scratch); !m.empty()) return m;
+    joins.clear();
+    surface_detail::side_joins_at(s, e, joins);
+    for (const surface_detail::SideJoin& j : joins)
+      if (side_piece(s, j.a) != side_piece(s, j.b))
+        return "edge " + edge_text(s.edges[e]) + " joins " + side_text(j.a) + " (piece " +
+               std::to_string(side_piece(s, j.a)) + ") and " + side_text(j.b) + " (piece " +
+               std::to_string(side_piece(s, j.b)) + ")";
+  }
+  return "";
+}
 
 }  // namespace fracref
