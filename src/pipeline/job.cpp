@@ -138,6 +138,7 @@ RefineOptions refine_options(const Scene& scene, const JobOptions& o, double dia
   r.relax = scene.refine.relax;
   r.rim_smoothing = scene.refine.rim_smoothing;
   r.fold_solves = scene.refine.fold_solves;
+  r.hairpin_collapse = scene.refine.hairpin_collapse;
   r.max_triangles = std::size_t(scene.refine.max_triangles);
   r.seed = o.seed.value_or(scene.refine.seed);
   r.min_angle = scene.refine.min_angle;

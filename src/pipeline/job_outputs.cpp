@@ -49,7 +49,7 @@ void JobReport::refined(const FractureSurface& coarse, const FractureSurface& re
   for (const IterationStats& st : r.iterations) {
     const IterationStats::Phases& p = st.phases;
     its.push_back({{"energy", st.energy}, {"triangles", st.triangles}, {"max_displacement", st.max_displacement},
-                   {"collisions_stopped", st.collisions_stopped}, {"splits", st.splits}, {"flips", st.flips},
+                   {"collisions_stopped", st.collisions_stopped}, {"splits", st.splits}, {"flips", st.flips}, {"collapses", st.collapses},
                    {"dt", st.dt}, {"solver_iterations", st.solver_iterations}, {"graded", st.graded},
                    {"attempts", st.attempts}, {"seconds", st.seconds},
                    {"phase_seconds", {{"splits", p.splits}, {"flips", p.flips}, {"evaluate", p.evaluate},

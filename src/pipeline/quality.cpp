@@ -81,7 +81,9 @@ void displacement(const FractureSurface& coarse, const FractureSurface& refined,
     total += 3.0 * w;
   }
   double mean = 0.0;
-  for (const auto& [d, w] : dist_weight) mean += d * w, q.displacement_max = std::max(q.displacement_max, d);
+  // A vertex with no face (a hairpin tip collapsed: refine/collapses.hpp) is not on S.
+  for (const auto& [d, w] : dist_weight)
+    if (w > 0.0) mean += d * w, q.displacement_max = std::max(q.displacement_max, d);
   q.displacement_mean = total > 0.0 ? mean / total : 0.0;
   std::sort(dist_weight.begin(), dist_weight.end());
   double acc = 0.0;

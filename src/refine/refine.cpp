@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "flow/implicit_step.hpp"
+#include "refine/collapses.hpp"
 #include "refine/collisions.hpp"
 #include "refine/containment.hpp"
 #include "refine/exterior_contact.hpp"
@@ -227,6 +228,18 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   return st;
 }
 
+// Hairpin tips collapsed before the splits (which judge their samples by the velocities, so those
+// are evaluated again); a collapsed tip keeps no face and stays where it is.
+std::size_t Refiner::collapse_hairpins() {
+  CollapseOptions o;
+  o.max_hairpin_degrees = o_.hairpin_collapse;
+  o.reject_face = [&](const glm::uvec4& f) { return face_crosses_exterior(f, s_.positions, mesh(), rim_, clearance_); };
+  const std::vector<std::uint32_t> tips = collapse_hairpin_tips(s_, o);
+  for (const std::uint32_t v : tips) last_move_[v] = glm::vec3(0.0f);
+  if (!tips.empty()) evaluate();
+  return tips.size();
+}
+
 IterationStats Refiner::attempt(std::uint32_t it, double e_before, bool graded, bool& undone) {
   IterationStats st;
   st.graded = graded;
@@ -235,6 +248,7 @@ IterationStats Refiner::attempt(std::uint32_t it, double e_before, bool graded, 
   const std::vector<glm::vec4> samples_before = samples_, velocity_before = velocity_;
   const std::vector<glm::vec3> moves_before = last_move_;
   std::size_t moved_by_paths = 0;
+  st.collapses = collapse_hairpins();
   st.splits = refine_step(it, graded, moved_by_paths);
   locate_new_rim_vertices();
   sample_new_vertices();

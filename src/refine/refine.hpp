@@ -56,6 +56,10 @@ struct RefineOptions {
   /// guard still holds what the last one folds). 1 = one solve (the held vertices' neighbours
   /// move as if they had not been held, and fold into creases round them).
   int fold_solves = 2;
+  /// Degrees: at the start of each iteration, a junction vertex whose junction curve turns back
+  /// sharper than this (a hairpin's tip, which the flow cannot draw back without folding its
+  /// faces) is collapsed into a neighbour on the curve (refine/collapses.hpp); 0 = off.
+  double hairpin_collapse = 45.0;
 };
 
 /// What one iteration did (report.json's `iterations` list).
@@ -65,6 +69,7 @@ struct IterationStats {
   double max_displacement = 0.0;    ///< largest vertex motion of the flow step (scene units)
   std::size_t collisions_stopped = 0;  ///< vertices held back by the collision constraints
   std::size_t splits = 0, flips = 0;
+  std::size_t collapses = 0;  ///< hairpin tips collapsed (refine/collapses.hpp)
   double dt = 0.0;
   int solver_iterations = 0;  ///< conjugate-gradient iterations of the flow step's solve
   /// Whether the splits kept are the graded ones (longest-edge paths), not each on its sample's

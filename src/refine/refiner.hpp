@@ -79,6 +79,7 @@ class Refiner {
                                              IterationStats& st);
   std::vector<glm::vec4> constrained_motion(const std::vector<glm::vec4>& x0, const std::vector<glm::dvec3>& d,
                                             const std::vector<std::uint32_t>& flagged);
+  std::size_t collapse_hairpins();
   std::size_t refine_step(std::uint32_t iteration, bool propagate, std::size_t& graded);
   SplitRequest bisection(const SplitRequest& r, bool propagate, glm::vec3& start, bool& path_left) const;
   IterationStats iterate(std::uint32_t iteration, double e_before);

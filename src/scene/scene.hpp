@@ -77,6 +77,7 @@ struct RefineSpec {
   double relax = 0.0;           ///< in [0, 1]: tangential relaxation of the sheets' vertices per step (0: off)
   int rim_smoothing = 0;        ///< passes of rim smoothing on B before the flow (0: off)
   int fold_solves = 2;          ///< in [1, 8]: solves per flow step, held vertices fixed after the first
+  double hairpin_collapse = 45.0;  ///< degrees in [0, 90]: junction hairpins sharper than this lose their tip; 0 = off
 };
 
 struct OutputSpec {
