@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "geom/intersect.hpp"
 
@@ -214,10 +215,25 @@ void drop_crossing(const FractureSurface& s, std::vector<Plan>& plans) {
         tris.push_back({h.x, h.y, h.z}), owner.push_back(k);
       }
     }
+    // Only faces whose boxes meet a moved face's can meet it: the rest are left out of the search.
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    std::vector<std::pair<glm::dvec3, glm::dvec3>> boxes;
+    for (const TriangleIds& h : tris) {
+      boxes.emplace_back(glm::min(glm::min(x[h[0]], x[h[1]]), x[h[2]]), glm::max(glm::max(x[h[0]], x[h[1]]), x[h[2]]));
+      lo = glm::min(lo, boxes.back().first), hi = glm::max(hi, boxes.back().second);
+    }
     SelfIntersectionOptions o;
     o.query_faces = tris.size();
-    for (std::uint32_t f = 0; f < s.faces.size(); ++f)
-      if (!changed[f]) tris.push_back({s.faces[f].x, s.faces[f].y, s.faces[f].z});
+    for (std::uint32_t f = 0; f < s.faces.size(); ++f) {
+      if (changed[f]) continue;
+      const glm::uvec4 g = s.faces[f];
+      const glm::dvec3 flo = glm::min(glm::min(x[g.x], x[g.y]), x[g.z]), fhi = glm::max(glm::max(x[g.x], x[g.y]), x[g.z]);
+      if (glm::any(glm::lessThan(fhi, lo)) || glm::any(glm::greaterThan(flo, hi))) continue;
+      if (std::any_of(boxes.begin(), boxes.end(), [&](const auto& b) {
+            return !glm::any(glm::lessThan(fhi, b.first)) && !glm::any(glm::greaterThan(flo, b.second));
+          }))
+        tris.push_back({g.x, g.y, g.z});
+    }
     std::vector<char> drop(plans.size(), 0);
     for (const auto& [i, j] : find_self_intersections(x, tris, o)) {
       drop[owner[i]] = 1;
