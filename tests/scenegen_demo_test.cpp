@@ -272,7 +272,7 @@ TEST(ScenegenDemo, Branch) {
   EXPECT_EQ(d.scene.field.type, FieldType::branch);
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(32, 32, 64));
   EXPECT_EQ(d.scene.refine.tau, 2e-8);
-  EXPECT_EQ(d.scene.refine.rim_smoothing, 3);
+  EXPECT_EQ(d.scene.refine.rim_smoothing, 4);
   EXPECT_EQ(d.scene.refine.fold_solves, 1);  // no creases to remove
   EXPECT_EQ(d.scene.refine.delta, 5e-5);
   ASSERT_FALSE(d.scene.fracture.cracks.empty());

@@ -57,7 +57,7 @@ constexpr SceneText kScenes[] = {
      "The paper's tree branch: an incomplete cut in the middle of a cylinder, splintered on the side that snaps "
      "open, completed by virtual fracture, refined "
      "in a 32x32x64 branch field (paper: 60 -> 123K triangles).",
-     "branch", {32, 32, 64}, 2e-8, 5e-5, 1e-5, false, 0, false, 3, 1},
+     "branch", {32, 32, 64}, 2e-8, 5e-5, 1e-5, false, 0, false, 4, 1},
     {"wall", "collapsing brick wall",
      "The paper's collapsing wall: a wrecking ball knocks pieces out of a brick wall, whose coarse mesh follows "
      "its bricks, refined in a 300x100x20 brick field over the wall's own box (the paper's 150x50x10 cannot hold "
