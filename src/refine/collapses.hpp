@@ -14,8 +14,8 @@
 namespace fracref {
 
 struct CollapseOptions {
-  /// A junction vertex (two junction edges, not on B) whose two junction edges are closer than
-  /// this is a hairpin's tip; 0 = no collapses.
+  /// A junction vertex off B two of whose junction edges are closer than this (degrees) is a
+  /// hairpin's tip; 0 = no collapses.
   double max_hairpin_degrees = 45.0;
   /// A face the collapse moves may turn by at most this (degrees), and not become degenerate.
   double max_turn_degrees = 30.0;
@@ -24,8 +24,8 @@ struct CollapseOptions {
   std::function<bool(const glm::uvec4& face)> reject_face;
 };
 
-/// Collapses each hairpin tip v into the nearer of its two junction neighbours u (the farther one
-/// when the nearer is refused): the faces on edge v–u are removed and v's other faces take u in
+/// Collapses each hairpin tip v into the nearer end u of its two junction edges closest in angle
+/// (the farther one when the nearer is refused): the faces on edge v–u are removed and v's other faces take u in
 /// v's place. v keeps its position and its entry in every per-vertex array but is left with no
 /// face (so vertex ids, the refinement tree and the caller's per-vertex state stay valid); the
 /// caller should not move it. A collapse is made only when it is checked, before it is made, to
@@ -34,8 +34,9 @@ struct CollapseOptions {
 /// - every vertex adjacent to both v and u is opposite edge v–u in a face (the link condition), and
 ///   every piece with faces at both v and u has a face on edge v–u (no piece is pinched);
 /// - the faces around v and u, taken out with their neighbours' faces and collapsed, still make a
-///   valid S (validate(): sheets around each junction edge in an order that keeps the pieces
-///   apart) with each piece's Euler characteristic unchanged;
+///   valid S at every edge the collapse changes (validate_edges: each piece closes up there, and
+///   the sheets around each junction edge keep the pieces apart), with no two faces on one vertex
+///   set and each piece's Euler characteristic unchanged;
 /// - no moved face turns by more than max_turn_degrees or becomes degenerate, or meets another
 ///   face of S other than where S connects them (exact), or is refused by reject_face.
 /// Collapses whose faces share a vertex are not made in the same call (the lower tip's first).
