@@ -6,17 +6,11 @@
 #include <vector>
 
 #include "refine/collapses.hpp"
+#include "refine_test_support.hpp"
 #include "surface/surface_examples.hpp"
 
 namespace fracref {
 namespace {
-
-std::uint32_t vertex_at(const FractureSurface& s, const glm::vec3& p) {
-  for (std::uint32_t v = 0; v < s.positions.size(); ++v)
-    if (glm::vec3(s.positions[v]) == p) return v;
-  ADD_FAILURE() << "no vertex at (" << p.x << ", " << p.y << ", " << p.z << ")";
-  return 0;
-}
 
 CollapseOptions limit(double degrees) {
   CollapseOptions o;
@@ -36,7 +30,7 @@ bool junction_edge(const FractureSurface& s, std::uint32_t a, std::uint32_t b) {
 // 11 at its neighbours on the curve.
 FractureSurface bent_t_junction(float at) {
   FractureSurface s = example_t_junction(4);
-  s.positions[vertex_at(s, {0.0f, at, 0.0f})] = glm::vec4(0.2f, at, 0.0f, 1.0f);
+  s.positions[test::vertex_at(s, {0.0f, at, 0.0f})] = glm::vec4(0.2f, at, 0.0f, 1.0f);
   rebuild_adjacency(s);
   EXPECT_EQ(validate(s), "");
   return s;
@@ -49,8 +43,8 @@ FractureSurface bent_t_junction(float at) {
 // with the curve running straight past it.
 TEST(Collapses, ATipLosesItsFacesAndTheCurveRunsPastIt) {
   FractureSurface s = bent_t_junction(2.0f);
-  const std::uint32_t tip = vertex_at(s, {0.2f, 2.0f, 0.0f});
-  const std::uint32_t below = vertex_at(s, {0.0f, 1.0f, 0.0f}), above = vertex_at(s, {0.0f, 3.0f, 0.0f});
+  const std::uint32_t tip = test::vertex_at(s, {0.2f, 2.0f, 0.0f});
+  const std::uint32_t below = test::vertex_at(s, {0.0f, 1.0f, 0.0f}), above = test::vertex_at(s, {0.0f, 3.0f, 0.0f});
   const std::size_t faces = s.faces.size(), vertices = s.positions.size();
   const std::vector<std::uint32_t> tips = collapse_hairpin_tips(s, limit(160.0));
   ASSERT_EQ(tips, std::vector<std::uint32_t>{tip});
@@ -76,8 +70,8 @@ TEST(Collapses, NoTipWhereTheCurveBendsLessThanTheLimitOrTheLimitIsZero) {
 // caller refuses (the refiner's contact rule with B) is not made.
 TEST(Collapses, ATipIsNotCollapsedOntoBNorWhereTheCallerRefusesAMovedFace) {
   FractureSurface s = bent_t_junction(1.0f);
-  const std::uint32_t tip = vertex_at(s, {0.2f, 1.0f, 0.0f});
-  const std::uint32_t on_b = vertex_at(s, {0.0f, 0.0f, 0.0f}), inside = vertex_at(s, {0.0f, 2.0f, 0.0f});
+  const std::uint32_t tip = test::vertex_at(s, {0.2f, 1.0f, 0.0f});
+  const std::uint32_t on_b = test::vertex_at(s, {0.0f, 0.0f, 0.0f}), inside = test::vertex_at(s, {0.0f, 2.0f, 0.0f});
   ASSERT_TRUE(s.vertex_flags[on_b] & kVertexBoundary);
   FractureSurface refused = s;
   CollapseOptions o = limit(160.0);
@@ -94,7 +88,7 @@ TEST(ValidateEdges, NamesTheEdgeWhereAFacesPiecesAreWrong) {
   std::vector<std::uint32_t> all(s.edges.size());
   for (std::uint32_t e = 0; e < all.size(); ++e) all[e] = e;
   EXPECT_EQ(validate_edges(s, all), "");
-  const std::uint32_t a = vertex_at(s, {0.0f, 0.0f, 0.0f}), b = vertex_at(s, {0.0f, 0.0f, 1.0f});
+  const std::uint32_t a = test::vertex_at(s, {0.0f, 0.0f, 0.0f}), b = test::vertex_at(s, {0.0f, 0.0f, 1.0f});
   const std::uint32_t wall_edge = find_edge(s, a, b);
   ASSERT_NE(wall_edge, kNoEdge);
   const std::uint32_t f = s.ef_faces[s.ef_offsets[wall_edge]];

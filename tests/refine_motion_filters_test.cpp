@@ -12,13 +12,6 @@
 namespace fracref {
 namespace {
 
-std::uint32_t vertex_at(const FractureSurface& s, const glm::vec3& p) {
-  for (std::uint32_t v = 0; v < s.positions.size(); ++v)
-    if (glm::vec3(s.positions[v]) == p) return v;
-  ADD_FAILURE() << "no vertex at (" << p.x << ", " << p.y << ", " << p.z << ")";
-  return 0;
-}
-
 double moves(const glm::dmat3& filter, const glm::dvec3& d) { return glm::length(filter * d); }
 
 }  // namespace
@@ -31,7 +24,7 @@ double moves(const glm::dmat3& filter, const glm::dvec3& d) { return glm::length
 TEST(MotionFilters, AJunctionVertexMovesAcrossItsCurveAndFreelyWhereTheCurveTurnsBack) {
   const ExteriorSurface b = make_exterior(test::unit_cube(), "cube");
   FractureSurface s = example_t_junction(3);
-  const std::uint32_t tip = vertex_at(s, {0.0f, 1.0f, 0.0f}), next = vertex_at(s, {0.0f, 2.0f, 0.0f});
+  const std::uint32_t tip = test::vertex_at(s, {0.0f, 1.0f, 0.0f}), next = test::vertex_at(s, {0.0f, 2.0f, 0.0f});
   ASSERT_TRUE(s.vertex_flags[tip] & kVertexNonManifold);
   std::vector<glm::dmat3> f = motion_filters(s, b);
   for (const std::uint32_t v : {tip, next}) {

@@ -1,5 +1,7 @@
 #pragma once
 // The refine tests' hand-made case: a unit cube cut by a coarse grid sheet, and fields on it.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <vector>
 
@@ -9,6 +11,14 @@
 #include "surface/fracture_surface.hpp"
 
 namespace fracref::test {
+
+/// The vertex of s stored exactly at p (a test failure when there is none).
+inline std::uint32_t vertex_at(const FractureSurface& s, const glm::vec3& p) {
+  for (std::uint32_t v = 0; v < s.positions.size(); ++v)
+    if (glm::vec3(s.positions[v]) == p) return v;
+  ADD_FAILURE() << "no vertex at (" << p.x << ", " << p.y << ", " << p.z << ")";
+  return 0;
+}
 
 inline MeshSoup unit_cube() {
   MeshSoup m;
