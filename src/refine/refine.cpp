@@ -228,15 +228,15 @@ IterationStats Refiner::iterate(std::uint32_t it, double e_before) {
   return st;
 }
 
-// Hairpin tips collapsed before the splits (which judge their samples by the velocities, so those
-// are evaluated again); a collapsed tip keeps no face and stays where it is.
+// Hairpin tips collapsed before the splits; a collapsed tip keeps no face and stays where it is.
+// The splits and flips read ψ at the vertices and the positions, which a collapse leaves as they
+// were, so the velocities are evaluated once after all three (attempt).
 std::size_t Refiner::collapse_hairpins() {
   CollapseOptions o;
   o.max_hairpin_degrees = o_.hairpin_collapse;
   o.reject_face = [&](const glm::uvec4& f) { return face_crosses_exterior(f, s_.positions, mesh(), rim_, clearance_); };
   const std::vector<std::uint32_t> tips = collapse_hairpin_tips(s_, o);
   for (const std::uint32_t v : tips) last_move_[v] = glm::vec3(0.0f);
-  if (!tips.empty()) evaluate();
   return tips.size();
 }
 
@@ -269,7 +269,7 @@ IterationStats Refiner::attempt(std::uint32_t it, double e_before, bool graded, 
   st.flips = flip_slim_triangles(s_, samples_, b_, flip_options);
   st.phases.flips = seconds_since(t1);
   t1 = Clock::now();
-  if (st.splits + st.flips > 0) evaluate();
+  if (st.splits + st.flips + st.collapses > 0) evaluate();
   st.phases.evaluate = seconds_since(t1);
   t1 = Clock::now();
   const double e_now = energy();
