@@ -205,6 +205,7 @@ Image preview_frames(const PieceSet& set, const AnimationTransfer& transfer, con
     for (std::size_t p = 0; p < set.pieces.size(); ++p) {
       const std::vector<std::uint32_t>& used = transfer.layout.vertices[p];
       PreviewMesh m;
+      std::vector<int> groups;  // fracture and exterior faces are lit apart
       for (std::size_t i = 0; i < used.size(); ++i) m.positions.push_back(slots[transfer.layout.offsets[p] + i]);
       const PieceSet::Piece& piece = set.pieces[p];
       for (std::size_t f = 0; f < piece.triangles.size(); ++f) {
@@ -213,7 +214,9 @@ Image preview_frames(const PieceSet& set, const AnimationTransfer& transfer, con
           t[c] = std::uint32_t(std::lower_bound(used.begin(), used.end(), piece.triangles[f][c]) - used.begin());
         m.triangles.push_back(t);
         m.triangle_colors.push_back(piece.inside[f] ? piece_color(int(p)) : glm::vec3(0.86f, 0.86f, 0.88f));
+        groups.push_back(piece.inside[f] ? 1 : 0);
       }
+      smooth_corner_normals(m, kPreviewCrease, groups);
       meshes.push_back(std::move(m));
     }
     scenes.push_back(std::move(meshes));
@@ -238,6 +241,8 @@ Image preview_surface(const FractureSurface& s, const MeshSoup& exterior) {
   outside.positions = exterior.positions;
   outside.triangles = exterior.triangles;
   outside.triangle_colors.assign(exterior.triangles.size(), glm::vec3(0.80f, 0.80f, 0.84f));
+  smooth_corner_normals(fracture, kPreviewCrease);
+  smooth_corner_normals(outside, kPreviewCrease);
   RenderOptions ro;
   ro.width = 640;
   ro.height = 540;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <unordered_map>
 
 #include "pipeline/job_outputs.hpp"
 #include "pipeline/surface_preview.hpp"
@@ -68,24 +69,42 @@ std::vector<glm::dvec3> piece_views(const PieceSet& set, const PieceSet::Piece& 
   return {first, glm::normalize(rest)};
 }
 
-// One piece as seen along `view`, turned so that `view` points at the camera, centred on 0.
+// One piece as seen along `view`, turned so that `view` points at the camera, centred on 0. Its
+// fracture faces are coloured by ζ at each pixel's point of the piece (a fruit cube cut across
+// shows as a square, not as the triangles around it) and lit smoothly (kPreviewCrease), apart
+// from the exterior's.
 PreviewMesh turned_piece(const PieceSet& set, const PieceSet::Piece& piece, const glm::dvec3& view,
                          const std::optional<StrengthRamp>& ramp, const glm::vec3& plain) {
   const glm::dmat3 r = rotation_between(view, kToCamera);
+  const glm::vec3 exterior(0.86f, 0.86f, 0.88f);
   PreviewMesh m;
+  std::vector<int> groups;
+  std::unordered_map<std::uint32_t, std::uint32_t> local;
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
   for (std::size_t f = 0; f < piece.triangles.size(); ++f) {
-    const auto& t = piece.triangles[f];
-    const auto base = std::uint32_t(m.positions.size());
+    std::array<std::uint32_t, 3> t{};
     for (int k = 0; k < 3; ++k) {
-      m.positions.push_back(r * set.positions[t[k]]);
-      lo = glm::min(lo, m.positions.back()), hi = glm::max(hi, m.positions.back());
+      const std::uint32_t v = piece.triangles[f][k];
+      const auto [it, added] = local.try_emplace(v, std::uint32_t(m.positions.size()));
+      if (added) {
+        m.positions.push_back(r * set.positions[v]);
+        lo = glm::min(lo, m.positions.back()), hi = glm::max(hi, m.positions.back());
+      }
+      t[k] = it->second;
     }
-    m.triangles.push_back({base, base + 1, base + 2});
-    const glm::dvec3 centroid = (set.positions[t[0]] + set.positions[t[1]] + set.positions[t[2]]) / 3.0;
-    m.triangle_colors.push_back(!piece.inside[f] ? glm::vec3(0.86f, 0.86f, 0.88f) : ramp ? ramp->at(centroid) : plain);
+    m.triangles.push_back(t);
+    m.triangle_colors.push_back(piece.inside[f] ? plain : exterior);
+    groups.push_back(piece.inside[f] ? 1 : 0);
   }
   for (glm::dvec3& p : m.positions) p -= 0.5 * (lo + hi);
+  smooth_corner_normals(m, kPreviewCrease, groups);
+  if (ramp) {  // ζ at each pixel's point of the piece, which a cube of fruit cut across needs
+    m.paint = [&set, &piece, &ramp = *ramp, exterior](std::size_t f, const glm::dvec3& b) {
+      if (!piece.inside[f]) return exterior;
+      const auto& t = piece.triangles[f];
+      return ramp.at(b.x * set.positions[t[0]] + b.y * set.positions[t[1]] + b.z * set.positions[t[2]]);
+    };
+  }
   return m;
 }
 

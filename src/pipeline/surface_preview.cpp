@@ -123,6 +123,11 @@ Image preview_strength_surface(const FractureSurface& s, const Grid3& zeta, int 
     m.triangles.push_back({f.x, f.y, f.z});
     m.triangle_colors.push_back(ramp.at((m.positions[f.x] + m.positions[f.y] + m.positions[f.z]) / 3.0));
   }
+  smooth_corner_normals(m, kPreviewCrease);
+  m.paint = [&m, &ramp](std::size_t f, const glm::dvec3& b) {
+    const auto& t = m.triangles[f];
+    return ramp.at(b.x * m.positions[t[0]] + b.y * m.positions[t[1]] + b.z * m.positions[t[2]]);
+  };
   RenderOptions ro;
   ro.width = width;
   ro.height = height;

@@ -8,6 +8,10 @@
 
 namespace fracref {
 
+/// Faces bent further apart than this (degrees) are lit apart in the previews; gentler bends are
+/// lit smoothly (smooth_corner_normals), so a curved surface made of flat triangles reads as curved.
+constexpr double kPreviewCrease = 45.0;
+
 /// A piece's colour where no material colours its faces (a palette of 8, repeating).
 glm::vec3 piece_color(int piece);
 
@@ -32,7 +36,7 @@ class StrengthRamp {
 /// long as its face's area.
 glm::dvec3 towards_walls(const std::vector<glm::dvec3>& normals, const glm::dvec3& view);
 
-/// The fracture surface alone, each face coloured by ζ at its centroid, seen along the candidate
+/// The fracture surface alone, coloured by ζ at each pixel's point of it and lit smoothly, seen along the candidate
 /// direction (the 3 axes and the 4 diagonals, both ways) that shows it best: the most pixels
 /// covered (fitted to the frame) times the fraction of its area not seen edge-on; then turned
 /// towards its walls (towards_walls). `width` × `height` pixels.

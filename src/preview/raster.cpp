@@ -55,38 +55,57 @@ struct Target {
   std::vector<glm::vec3> color;
 };
 
-void draw_triangle(Target& t, const glm::dvec3 s[3], const glm::vec3& rgb) {
-  double minx = std::floor(std::min({s[0].x, s[1].x, s[2].x})), maxx = std::ceil(std::max({s[0].x, s[1].x, s[2].x}));
-  double miny = std::floor(std::min({s[0].y, s[1].y, s[2].y})), maxy = std::ceil(std::max({s[0].y, s[1].y, s[2].y}));
-  int x0 = std::max(0, int(minx)), x1 = std::min(t.w - 1, int(maxx));
-  int y0 = std::max(0, int(miny)), y1 = std::min(t.h - 1, int(maxy));
-  double area = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y);
+// One triangle's corners on screen (x, y in pixels, z depth), with what is blended across it.
+struct Corners {
+  glm::dvec3 screen[3];
+  glm::vec3 color;  // without a paint function
+  glm::dvec3 normal[3];
+  const PreviewMesh* mesh = nullptr;  // with a paint function, and the triangle to paint
+  std::size_t triangle = 0;
+};
+
+glm::vec3 shade(glm::dvec3 n, const glm::vec3& base, const RenderOptions& o) {
+  const double len = glm::length(n);
+  if (!(len > 0.0)) return base;
+  n /= len;
+  const glm::dvec3 l = -glm::normalize(o.light_direction);
+  const double diffuse = std::abs(glm::dot(n, l));  // two-sided
+  const double rim = std::abs(glm::dot(n, glm::normalize(o.view_direction)));
+  const float k = float(0.28 + 0.62 * diffuse + 0.10 * rim);
+  return glm::min(base * k, glm::vec3(1.0f));
+}
+
+// A triangle with neither corner normals nor a paint function is shaded once; others per pixel.
+void draw_triangle(Target& t, const Corners& c, bool blended, const RenderOptions& o) {
+  const glm::dvec3* s = c.screen;
+  const double minx = std::floor(std::min({s[0].x, s[1].x, s[2].x})), maxx = std::ceil(std::max({s[0].x, s[1].x, s[2].x}));
+  const double miny = std::floor(std::min({s[0].y, s[1].y, s[2].y})), maxy = std::ceil(std::max({s[0].y, s[1].y, s[2].y}));
+  const int x0 = std::max(0, int(minx)), x1 = std::min(t.w - 1, int(maxx));
+  const int y0 = std::max(0, int(miny)), y1 = std::min(t.h - 1, int(maxy));
+  const double area = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y);
   if (std::abs(area) < 1e-12) return;
+  const glm::vec3 flat = blended ? glm::vec3(0.0f) : shade(c.normal[0], c.color, o);
   for (int y = y0; y <= y1; ++y)
     for (int x = x0; x <= x1; ++x) {
-      double px = x + 0.5, py = y + 0.5;
+      const double px = x + 0.5, py = y + 0.5;
       double w0 = (s[1].x - px) * (s[2].y - py) - (s[2].x - px) * (s[1].y - py);
       double w1 = (s[2].x - px) * (s[0].y - py) - (s[0].x - px) * (s[2].y - py);
       double w2 = area - w0 - w1;
       if (area < 0) w0 = -w0, w1 = -w1, w2 = -w2;
       if (w0 < 0 || w1 < 0 || w2 < 0) continue;
-      double a = std::abs(area);
-      float z = float((w0 * s[0].z + w1 * s[1].z + w2 * s[2].z) / a);
-      std::size_t i = std::size_t(y) * t.w + x;
-      if (z < t.depth[i]) t.depth[i] = z, t.color[i] = rgb;
+      const double a = std::abs(area);
+      const float z = float((w0 * s[0].z + w1 * s[1].z + w2 * s[2].z) / a);
+      const std::size_t i = std::size_t(y) * t.w + x;
+      if (!(z < t.depth[i])) continue;
+      t.depth[i] = z;
+      if (!blended) {
+        t.color[i] = flat;
+        continue;
+      }
+      const glm::dvec3 b(w0 / a, w1 / a, w2 / a);
+      t.color[i] = shade(b.x * c.normal[0] + b.y * c.normal[1] + b.z * c.normal[2],
+                         c.mesh ? c.mesh->paint(c.triangle, b) : c.color, o);
     }
-}
-
-glm::vec3 shade(const glm::dvec3 p[3], const glm::vec3& base, const RenderOptions& o) {
-  glm::dvec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
-  double len = glm::length(n);
-  if (len == 0.0) return base;
-  n /= len;
-  glm::dvec3 l = -glm::normalize(o.light_direction);
-  double diffuse = std::abs(glm::dot(n, l));  // two-sided
-  double rim = std::abs(glm::dot(n, glm::normalize(o.view_direction)));
-  float k = float(0.28 + 0.62 * diffuse + 0.10 * rim);
-  return glm::min(base * k, glm::vec3(1.0f));
 }
 
 // sRGB encoding through a table: the per-pixel pow() dominated the preview's time.
@@ -128,13 +147,52 @@ Image render_preview(const std::vector<PreviewMesh>& meshes, const RenderOptions
   Camera cam = fit_camera(meshes, o, W, H);
   Target t{W, H, std::vector<float>(std::size_t(W) * H, std::numeric_limits<float>::max()),
            std::vector<glm::vec3>(std::size_t(W) * H)};
-  for (const auto& m : meshes)
+  for (const auto& m : meshes) {
+    const bool normals = !m.corner_normals.empty();
     for (std::size_t f = 0; f < m.triangles.size(); ++f) {
-      glm::dvec3 p[3], s[3];
-      for (int k = 0; k < 3; ++k) p[k] = m.positions[m.triangles[f][k]], s[k] = cam.project(p[k]);
-      draw_triangle(t, s, shade(p, m.triangle_colors[f], o));
+      Corners c;
+      if (m.paint) c.mesh = &m, c.triangle = f;
+      glm::dvec3 p[3];
+      for (int k = 0; k < 3; ++k) p[k] = m.positions[m.triangles[f][k]], c.screen[k] = cam.project(p[k]);
+      const glm::dvec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
+      c.color = m.triangle_colors[f];
+      for (int k = 0; k < 3; ++k) c.normal[k] = normals ? glm::dvec3(m.corner_normals[3 * f + k]) : n;
+      draw_triangle(t, c, normals || m.paint, o);
     }
+  }
   return resolve(t, ss, o.background, o.width, o.height);
+}
+
+void smooth_corner_normals(PreviewMesh& m, double crease_degrees, const std::vector<int>& groups) {
+  const std::size_t n = m.triangles.size();
+  std::vector<glm::dvec3> normal(n);  // as long as twice the area
+  for (std::size_t f = 0; f < n; ++f) {
+    const auto& t = m.triangles[f];
+    normal[f] = glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
+  }
+  std::vector<std::uint32_t> offsets(m.positions.size() + 1, 0), around(3 * n);
+  for (const auto& t : m.triangles)
+    for (const std::uint32_t v : t) ++offsets[v + 1];
+  for (std::size_t v = 0; v < m.positions.size(); ++v) offsets[v + 1] += offsets[v];
+  std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+  for (std::size_t f = 0; f < n; ++f)
+    for (const std::uint32_t v : m.triangles[f]) around[fill[v]++] = std::uint32_t(f);
+  const double cos_crease = std::cos(crease_degrees * 3.14159265358979323846 / 180.0);
+  m.corner_normals.assign(3 * n, glm::vec3(0.0f));
+  for (std::size_t f = 0; f < n; ++f) {
+    const double lf = glm::length(normal[f]);
+    for (int k = 0; k < 3; ++k) {
+      glm::dvec3 sum = normal[f];
+      const std::uint32_t v = m.triangles[f][k];
+      for (std::uint32_t j = offsets[v]; j < offsets[v + 1]; ++j) {
+        const std::uint32_t g = around[j];
+        if (g == f || (!groups.empty() && groups[g] != groups[f])) continue;
+        const double d = glm::dot(normal[f], normal[g]), lg = glm::length(normal[g]);
+        if (std::abs(d) >= cos_crease * lf * lg) sum += d < 0.0 ? -normal[g] : normal[g];
+      }
+      m.corner_normals[3 * f + k] = glm::vec3(sum);
+    }
+  }
 }
 
 Image contact_sheet(const std::vector<Image>& images, int columns) {

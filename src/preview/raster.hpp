@@ -1,8 +1,10 @@
 #pragma once
-// A small deterministic CPU rasterizer for preview pictures: z-buffered, flat-lit triangles.
+// A small deterministic CPU rasterizer for preview pictures: z-buffered triangles, flat-lit or
+// lit per pixel from corner normals and colours.
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -20,7 +22,23 @@ struct PreviewMesh {
   std::vector<glm::dvec3> positions;
   std::vector<std::array<std::uint32_t, 3>> triangles;
   std::vector<glm::vec3> triangle_colors;  ///< one per triangle
+  /// Optional, 3 per triangle (corner k of triangle f at 3f + k): normals blended across the
+  /// triangle, so that a curved surface made of flat triangles reads as curved. Empty: the
+  /// triangle's own normal.
+  std::vector<glm::vec3> corner_normals;
+  /// Optional: the colour at each pixel, from the triangle and the pixel's barycentric
+  /// coordinates in it (a texture), in place of triangle_colors. What it refers to must outlive
+  /// render_preview.
+  std::function<glm::vec3(std::size_t triangle, const glm::dvec3& barycentric)> paint;
 };
+
+/// Fills m.corner_normals: at each corner, the area-weighted mean of the normals of the triangles
+/// around that vertex in the same group (`groups`, one per triangle; empty = one group) whose
+/// normal is within `crease_degrees` of the corner's triangle's, either way round (fracture
+/// sheets are drawn two-sided and their faces need not agree on a side). So a crease sharper
+/// than the limit, and the line between two groups, stay sharp.
+/// \pre groups is empty or has one entry per triangle.
+void smooth_corner_normals(PreviewMesh& m, double crease_degrees, const std::vector<int>& groups = {});
 
 struct RenderOptions {
   int width = 960;
