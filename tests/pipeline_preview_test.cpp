@@ -42,6 +42,25 @@ TEST(PiecesPreview, BothSidesOfACutAreSeen) {
   EXPECT_GT(blue, pixels / 20);
 }
 
+TEST(PiecesPreview, TheMaterialsOwnColoursPaintTheFractureFaces) {
+  const MeshSoup b = box({0, 0, -1}, {3, 3, 1}, 1);
+  const PieceSet set = build_pieces(example_sheet(4), b);
+  Grid3 zeta;
+  zeta.dims = {2, 2, 2}, zeta.origin = glm::dvec3(-1.0), zeta.cell = 10.0;
+  zeta.values.assign(8, 0.5f);
+  std::array<Grid3, 3> green{zeta, zeta, zeta};  // a material of one colour, (0, 0.8, 0)
+  green[0].values.assign(8, 0.0f), green[1].values.assign(8, 0.8f), green[2].values.assign(8, 0.0f);
+  const Image im = preview_pieces(set, &zeta, &green);
+  std::size_t greens = 0;
+  for (std::size_t i = 0; i + 2 < im.rgb.size(); i += 3) greens += im.rgb[i + 1] > im.rgb[i] + 60 && im.rgb[i + 1] > im.rgb[i + 2] + 60;
+  EXPECT_GT(greens, std::size_t(im.width) * std::size_t(im.height) / 10);
+  // Without it, ζ's ramp: no green.
+  const Image ramp = preview_pieces(set, &zeta);
+  std::size_t ramp_greens = 0;
+  for (std::size_t i = 0; i + 2 < ramp.rgb.size(); i += 3) ramp_greens += ramp.rgb[i + 1] > ramp.rgb[i] + 60 && ramp.rgb[i + 1] > ramp.rgb[i + 2] + 60;
+  EXPECT_EQ(ramp_greens, 0u);
+}
+
 TEST(PreviewView, TurnsTowardsTheStepsOfABreakThatFacesTheView) {
   const glm::dvec3 view(0.0, 0.0, 1.0);
   // A flat break: seen face-on.

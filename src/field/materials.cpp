@@ -22,6 +22,17 @@ double smoothstep(double e0, double e1, double x) {
 
 double uniform01(std::uint64_t& state) { return double(splitmix64(state) >> 11) * 0x1.0p-53; }
 
+glm::vec3 mix(const glm::vec3& a, const glm::vec3& b, double t) { return a + float(std::clamp(t, 0.0, 1.0)) * (b - a); }
+
+// Colours (linear RGB) of the phases of the materials that have colours of their own, as the
+// paper's pictures show them. The others (constant, clay, brick) have none: a crack along the
+// wall's brick-mortar interface has no one colour, and ζ's ramp shows it better.
+const glm::vec3 kMarbleWhite{0.86f, 0.86f, 0.83f}, kMarbleBlue{0.12f, 0.22f, 0.52f};
+const glm::vec3 kHeartwood{0.36f, 0.20f, 0.08f}, kSapwood{0.82f, 0.64f, 0.40f};
+const glm::vec3 kJelly{0.62f, 0.04f, 0.10f};
+const glm::vec3 kFruit[] = {{0.98f, 0.55f, 0.05f}, {0.35f, 0.75f, 0.12f}, {0.98f, 0.85f, 0.15f},
+                            {0.45f, 0.12f, 0.45f}, {0.98f, 0.70f, 0.45f}, {0.95f, 0.95f, 0.80f}};
+
 class Constant final : public Material {
  public:
   explicit Constant(double value) : value_(value) {}
@@ -58,6 +69,14 @@ class Marble final : public Material {
     const double blue = lerp(params_.blue_min, params_.blue_max,
                              noise01(noise_(q * params_.grain_frequency + kShiftB)));
     return lerp(white, blue, w);
+  }
+  // White marble and blue veins, each shaded a little by its own noise (the grains in the blue).
+  std::optional<glm::vec3> albedo(glm::dvec3 p) const override {
+    const double w = marble_weight(params_, noise_, frame_, p);
+    const glm::dvec3 q = frame_.noise_coords(p);
+    const double white = noise01(noise_(q * params_.white_frequency + kShiftA));
+    const double grain = noise01(noise_(q * params_.grain_frequency + kShiftB));
+    return mix(kMarbleWhite * float(0.9 + 0.1 * white), kMarbleBlue * float(0.7 + 0.6 * grain), w);
   }
 
  private:
@@ -118,6 +137,8 @@ class Wood final : public Material {
     }
     return clamp01(value);
   }
+  // Dark heartwood at the axis to pale sapwood under the bark, as ζ rises.
+  std::optional<glm::vec3> albedo(glm::dvec3 p) const override { return mix(kHeartwood, kSapwood, strength(p)); }
 
  private:
   WoodParams params_;
@@ -226,6 +247,20 @@ class Inclusions final : public Material {
     const double w = smoothstep(edge_, -edge_, sd);
     return clamp01(lerp(params_.matrix_strength, params_.inclusion_strength, w) +
                    params_.noise_amplitude * noise_(frame_.noise_coords(p)));
+  }
+  // Red jelly; each cube a fruit of its own colour (the nearest cube's, where cubes overlap).
+  std::optional<glm::vec3> albedo(glm::dvec3 p) const override {
+    double sd = edge_;
+    std::size_t nearest = 0;
+    for (std::size_t k = 0; k < cubes_.size(); ++k) {
+      const InclusionCube& c = cubes_[k];
+      const double reach = c.half_size * 1.7320508075688772 + edge_;
+      const glm::dvec3 v = p - c.centre;
+      if (glm::dot(v, v) >= reach * reach) continue;
+      if (const double d = cube_signed_distance(c, p); d < sd) sd = d, nearest = k;
+    }
+    const glm::vec3 fruit = kFruit[nearest % (sizeof kFruit / sizeof kFruit[0])];
+    return mix(kJelly, fruit, smoothstep(edge_, -edge_, sd));
   }
 
  private:

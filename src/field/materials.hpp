@@ -2,6 +2,7 @@
 // Internal to src/field: the compiled form of a FieldSpec, shared by procedural.cpp (the public
 // entry points and validation) and materials.cpp (one evaluator per material type).
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -30,6 +31,9 @@ class Material {
  public:
   virtual ~Material() = default;
   virtual double strength(glm::dvec3 p) const = 0;
+  /// The material's own colour at p, linear RGB in [0, 1], where it has colours of its own
+  /// (sample_albedo() in procedural.hpp).
+  virtual std::optional<glm::vec3> albedo(glm::dvec3) const { return std::nullopt; }
 };
 
 /// \pre validate_field_spec(spec) passed; `noise` outlives the material.

@@ -258,6 +258,25 @@ Grid3 sample_strength(const FieldSpec& spec, glm::dvec3 bbox_min, glm::dvec3 bbo
   return grid;
 }
 
+std::optional<std::array<Grid3, 3>> sample_albedo(const FieldSpec& spec, const Grid3& like, unsigned threads) {
+  validate_field_spec(spec);
+  const PerlinNoise noise(spec.seed);
+  const auto material = detail::make_material(spec, noise, frame_of(spec));
+  if (!material->albedo(spec.object_min)) return std::nullopt;
+  std::array<Grid3, 3> rgb;
+  for (Grid3& g : rgb) g = like, g.values.assign(like.size(), 0.0f);
+  const unsigned n = std::clamp(threads == 0 ? unsigned(default_threads()) : threads, 1u, std::max(like.dims.z, 1u));
+  parallel_chunks(n, n, int(n), [&](std::size_t t, std::size_t, std::size_t) {
+    for (unsigned z = unsigned(t); z < like.dims.z; z += n)
+      for (unsigned y = 0; y < like.dims.y; ++y)
+        for (unsigned x = 0; x < like.dims.x; ++x) {
+          const glm::vec3 c = *material->albedo(like.node_position(x, y, z));
+          for (int k = 0; k < 3; ++k) rgb[std::size_t(k)].values[like.index(x, y, z)] = c[k];
+        }
+  });
+  return rgb;
+}
+
 std::vector<InclusionCube> inclusion_cubes(const FieldSpec& spec) {
   validate_field_spec(spec);
   check_inclusions(spec.inclusions);

@@ -15,6 +15,7 @@
 //
 // Member names of the parameter structs are the intended keys of the scene file's `params`
 // object (the scene loader maps JSON to FieldSpec; nothing here parses JSON).
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -181,6 +182,14 @@ double strength_at(const FieldSpec& spec, const PerlinNoise& noise, glm::dvec3 p
 ///        2^31 nodes, or a spec rejected by validate_field_spec().
 Grid3 sample_strength(const FieldSpec& spec, glm::dvec3 bbox_min, glm::dvec3 bbox_max,
                       glm::uvec3 resolution, unsigned threads = 0);
+
+/// The material's own colours at the nodes of `like` (its dims, origin and cell; its values are
+/// not read), one grid per linear RGB channel in [0, 1], for pictures of the pieces: marble white
+/// with blue veins (their grains shaded); wood and branch dark heartwood to pale sapwood as ζ
+/// rises; inclusions red jelly with each cube a fruit of its own colour. None for the types
+/// without colours of their own (constant, perlin, fbm, brick). Bit-identical for any thread count.
+/// \pre spec.object_min/max set. \throw InputError as strength_at().
+std::optional<std::array<Grid3, 3>> sample_albedo(const FieldSpec& spec, const Grid3& like, unsigned threads = 0);
 
 /// One cube of an `inclusions` material (scene units).
 struct InclusionCube {

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <optional>
 #include <sstream>
 
 #include "coarse/animation.hpp"
@@ -100,6 +101,7 @@ CoarseAnimation load_animation(const Scene& scene, const CoarseModel& model) {
 struct Field {
   Grid3 zeta;
   FieldGrid4 sampled;
+  std::optional<FieldSpec> material;  // a procedural field's; its colours are the preview's
 };
 
 Field build_field(const Scene& scene, const ExteriorSurface& b, const CoarseModel& model, ComputeBackend& backend) {
@@ -111,6 +113,7 @@ Field build_field(const Scene& scene, const ExteriorSurface& b, const CoarseMode
   } else {
     FieldSpec material = material_from_scene(scene.field, scene.file, b.bbox_min, b.bbox_max);
     f.zeta = sample_strength(material, b.bbox_min - pad, b.bbox_max + pad, scene.field.resolution);
+    f.material = material;
   }
   std::vector<glm::dvec3> pos;
   for (const glm::vec4& p : model.surface.positions) pos.push_back(glm::dvec3(glm::vec3(p)));
@@ -123,6 +126,13 @@ Field build_field(const Scene& scene, const ExteriorSurface& b, const CoarseMode
   po.sigma = float(scene.pyramid.sigma);
   f.sampled = precompute_field_gradient(backend.build_pyramid(psi, po));
   return f;
+}
+
+// preview.png: the pieces in their material's own colours where it has some (sampled at ζ's
+// nodes, here rather than with ζ so that the set-up's time is the refinement's alone), else by ζ.
+Image pieces_picture(const PieceSet& pieces, const Field& field) {
+  const std::optional<std::array<Grid3, 3>> albedo = field.material ? sample_albedo(*field.material, field.zeta) : std::nullopt;
+  return preview_pieces(pieces, &field.zeta, albedo ? &*albedo : nullptr);
 }
 
 RefineOptions refine_options(const Scene& scene, const JobOptions& o, double diag) {
@@ -236,7 +246,7 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   if (scene.output.obj) write_piece_objs(pieces, out);
   report.seconds("pieces", seconds_since(t_pieces));
   if (o.stop_after == Stage::pieces || animation.frames.empty())
-    return report.finish(out, seconds_since(t0), [&] { return preview_pieces(pieces, &field.zeta); });
+    return report.finish(out, seconds_since(t0), [&] { return pieces_picture(pieces, field); });
   progress("animate", 0.0, std::to_string(animation.frames.size()) + " frames");
   const auto t_animate = Clock::now();
   AnimationTransfer transfer = build_transfer(model, animation, refined.tree, pieces);
@@ -247,7 +257,7 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   const int sheet = o.preview_frames.value_or(scene.output.preview_frames);
   if (sheet > 0) write_png(out / "preview_frames.png", preview_frames(pieces, transfer, animation, sheet));
   report.seconds("animate", seconds_since(t_animate));
-  return report.finish(out, seconds_since(t0), [&] { return preview_pieces(pieces, &field.zeta); });
+  return report.finish(out, seconds_since(t0), [&] { return pieces_picture(pieces, field); });
 }
 
 }  // namespace fracref

@@ -72,9 +72,11 @@ double allowed_distance(const WeightsSpec& w, const Grid3& zeta, double diagonal
 
 /// Every piece side by side at one scale, 1600×1000, each turned so that its fracture faces look
 /// at the camera (a piece whose fracture faces look both ways is drawn twice, from each side);
-/// fracture faces coloured by ζ (surface_preview.hpp) when `zeta` is given, else by their piece;
-/// exterior faces light. Implemented in pieces_preview.cpp.
-Image preview_pieces(const PieceSet& pieces, const Grid3* zeta = nullptr);
+/// fracture faces coloured by the material's own colours when `albedo` is given (sample_albedo:
+/// its three channels, sampled at each pixel's point of the piece), else by ζ (surface_preview.hpp)
+/// when `zeta` is given, else by their piece; exterior faces light. Implemented in
+/// pieces_preview.cpp.
+Image preview_pieces(const PieceSet& pieces, const Grid3* zeta = nullptr, const std::array<Grid3, 3>* albedo = nullptr);
 
 /// A contact sheet of `count` frames evenly spread over the animation (4 per row), each frame
 /// the pieces at their animated positions, each picture framed on its own.
