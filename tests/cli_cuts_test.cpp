@@ -123,3 +123,25 @@ TEST(CliCuts, APlaneGrazingABumpySphereIsCutAlongIt) {
     "field": {"type": "marble", "resolution": [16, 16, 16]}, "refine": {"max_iterations": 3}})");
   expect_two_checked_pieces(t, s);
 }
+
+// The lattice's zig-zag on B is not the input's: a cuts scene smooths its rim by default
+// (kLatticeRimSmoothing passes), and says so; the scene's own value, 0 included, wins.
+TEST(CliCuts, TheLatticesRimIsSmoothedUnlessTheSceneSaysOtherwise) {
+  TempDir t;
+  t.write("cube.obj", kCube);
+  t.write("cut.obj", "v 0.53 -0.2 -0.2\nv 0.47 1.2 -0.2\nv 0.53 1.2 1.2\nv 0.47 -0.2 1.2\nf 1 2 3 4\n");
+  const auto refine = [&](const std::string& extra) {
+    auto s = t.write("scene.json", R"({"exterior": "cube.obj", "fracture": {"kind": "cuts", "mesh": "cut.obj"},
+      "field": {"type": "marble", "resolution": [16, 16, 16]}, "refine": {"max_iterations": 2)" + extra + "}}");
+    fs::remove_all(t.path / "out");
+    auto r = run("refine " + s.string() + " -o " + (t.path / "out").string() + " --backend cpu --stop-after refine -q",
+                 "VK_ICD_FILENAMES=/nonexistent VK_DRIVER_FILES=/nonexistent");
+    EXPECT_EQ(r.code, 0) << r.err;
+    return nlohmann::json::parse(slurp(t.path / "out" / "report.json"));
+  };
+  const auto by_default = refine(""), off = refine(R"(, "rim_smoothing": 0)");
+  EXPECT_EQ(by_default["rim_smoothing"], 2);
+  EXPECT_EQ(off["rim_smoothing"], 0);
+  // The flow starts from another rim.
+  EXPECT_NE(by_default["iterations"][0]["energy"], off["iterations"][0]["energy"]);
+}

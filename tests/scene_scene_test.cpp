@@ -148,7 +148,7 @@ TEST(ParseScene, DefaultsAreTheDocumentedOnes) {
   EXPECT_FALSE(s.refine.rim_motion);
   EXPECT_TRUE(s.refine.tangential_motion);
   EXPECT_EQ(s.refine.relax, 0.0);
-  EXPECT_EQ(s.refine.rim_smoothing, 0);
+  EXPECT_FALSE(s.refine.rim_smoothing.has_value());  // the input's default (job.cpp)
   EXPECT_EQ(s.refine.fold_solves, 2);
   EXPECT_TRUE(s.output.ply && s.output.obj && s.output.glb && s.output.preview);
   EXPECT_FALSE(s.output.frames);  // frames/ only on request

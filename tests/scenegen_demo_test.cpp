@@ -305,7 +305,7 @@ TEST(ScenegenDemo, Wall) {
   EXPECT_EQ(d.scene.field.resolution, glm::uvec3(300, 100, 20));
   EXPECT_FALSE(d.scene.refine.tangential_motion);
   EXPECT_EQ(d.scene.refine.tau, 1.2e-7);
-  EXPECT_EQ(d.scene.refine.rim_smoothing, 0);  // its coarse rim steps along the brick courses
+  EXPECT_EQ(d.scene.refine.rim_smoothing.value_or(0), 0);  // its coarse rim steps along the brick courses
   EXPECT_EQ(d.scene.refine.fold_solves, 2);
   EXPECT_EQ(d.scene.refine.delta, 9e-4);
   EXPECT_EQ(d.scene.refine.tolerance, 2e-4);

@@ -146,7 +146,7 @@ Image pieces_picture(const PieceSet& pieces, const Field& field) {
   return preview_pieces(pieces, &field.zeta, albedo ? &*albedo : nullptr);
 }
 
-RefineOptions refine_options(const Scene& scene, const JobOptions& o, double diag) {
+RefineOptions refine_options(const Scene& scene, const JobOptions& o, const CoarseModel& model, double diag) {
   RefineOptions r;
   r.scale = diag;
   r.tau = scene.refine.tau;
@@ -157,7 +157,8 @@ RefineOptions refine_options(const Scene& scene, const JobOptions& o, double dia
   r.rim_motion = scene.refine.rim_motion;
   r.tangential_motion = scene.refine.tangential_motion;
   r.relax = scene.refine.relax;
-  r.rim_smoothing = scene.refine.rim_smoothing;
+  const bool lattice = scene.fracture.kind == FractureKind::cuts || model.fit.fitted;
+  r.rim_smoothing = scene.refine.rim_smoothing.value_or(lattice ? kLatticeRimSmoothing : 0);
   r.fold_solves = scene.refine.fold_solves;
   r.hairpin_collapse = scene.refine.hairpin_collapse;
   r.max_triangles = std::size_t(scene.refine.max_triangles);
@@ -234,7 +235,8 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   report.seconds("setup", seconds_since(t0));
   const auto t_refine = Clock::now();
   FractureSurface s = model.surface;
-  RefineOptions ro = refine_options(scene, o, b.diagonal());
+  RefineOptions ro = refine_options(scene, o, model, b.diagonal());
+  report.rim_smoothing(ro.rim_smoothing);
   RefineResult refined = refine_surface(s, field.sampled, b, backend, ro, [&](const IterationStats& st, int it, int max) {
     progress("refine", double(it + 1) / max, std::to_string(st.triangles) + " triangles");
   });

@@ -39,6 +39,8 @@ void JobReport::coarse(const CoarseModel& model, const CoarseAnimation& animatio
                            {"tets_relabelled", f.tets_relabelled}, {"grown", f.grown}});
 }
 
+void JobReport::rim_smoothing(int passes) { j_["rim_smoothing"] = passes; }
+
 void JobReport::refined(const FractureSurface& coarse, const FractureSurface& refined, const RefineResult& r,
                         const Grid3& zeta, double diagonal) {
   j_["refined_triangles"] = refined.faces.size();

@@ -37,6 +37,8 @@ class JobReport {
   /// `glb`: bytes, frames_kept, frame_step of animation.glb; a note when frames were dropped.
   void gltf(const GltfSummary& summary);
   void seconds(const std::string& key, double value);
+  /// `rim_smoothing`: the passes of rim smoothing made, the scene's or its input's default.
+  void rim_smoothing(int passes);
   /// seconds.kernels (their sum) and kernel_seconds / kernel_calls per kernel.
   void kernels(const KernelSeconds& k);
   void note(const std::string& text);

@@ -162,7 +162,7 @@ RefineSpec read_refine(ObjectReader r) {
   f.rim_motion = r.boolean("rim_motion", f.rim_motion);
   f.tangential_motion = r.boolean("tangential_motion", f.tangential_motion);
   f.relax = r.number("relax", f.relax, Range::closed(0.0, 1.0));
-  f.rim_smoothing = int(r.integer("rim_smoothing", f.rim_smoothing, {0, 1000}));
+  if (r.has("rim_smoothing")) f.rim_smoothing = int(r.integer("rim_smoothing", 0, {0, 1000}));
   f.fold_solves = int(r.integer("fold_solves", f.fold_solves, {1, 8}));
   f.hairpin_collapse = r.number("hairpin_collapse", f.hairpin_collapse, Range::closed(0.0, 90.0));
   r.finish();

@@ -5,6 +5,7 @@
 // against the scene file's folder. Referenced files are not opened here (the loaders do).
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -75,10 +76,16 @@ struct RefineSpec {
   bool rim_motion = false;      ///< the rim (S's boundary on B) slides on B with the flow
   bool tangential_motion = true;  ///< a vertex inside a sheet moves along S too (else along its normal)
   double relax = 0.0;           ///< in [0, 1]: tangential relaxation of the sheets' vertices per step (0: off)
-  int rim_smoothing = 0;        ///< passes of rim smoothing on B before the flow (0: off)
+  /// Passes of rim smoothing on B before the flow (0: off); absent: kLatticeRimSmoothing where S
+  /// is the label boundary of a tet lattice (cuts, and pieces fitted on one), whose zig-zag on B
+  /// is the lattice's and not the input's, else 0.
+  std::optional<int> rim_smoothing;
   int fold_solves = 2;          ///< in [1, 8]: solves per flow step, held vertices fixed after the first
   double hairpin_collapse = 45.0;  ///< degrees in [0, 90]: junction hairpins sharper than this lose their tip; 0 = off
 };
+
+/// refine.rim_smoothing's default where S comes from a tet lattice of B.
+constexpr int kLatticeRimSmoothing = 2;
 
 struct OutputSpec {
   bool ply = true;
