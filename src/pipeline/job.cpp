@@ -132,17 +132,19 @@ Field build_field(const Scene& scene, const ExteriorSurface& b, const CoarseMode
 
 // preview.png: the pieces in their material's own colours where it has some, else by ζ. The
 // colours are sampled when the picture is drawn (so the set-up's time is the refinement's alone)
-// on a grid finer than ζ's by the largest factor up to 4 that keeps it within kColourNodes nodes:
-// at ζ's own spacing a marble vein's edge shows the grid's cells as steps.
+// over ζ's box, up to four times finer than ζ's grid per axis (at ζ's own spacing a marble vein's
+// edge shows the grid's cells as steps) and within kColourNodes nodes (48 MB), coarser than ζ's
+// grid where that is larger: a 1600×1000 picture shows no more.
 Image pieces_picture(const PieceSet& pieces, const Field& field) {
   constexpr double kColourNodes = 4e6;
   if (!field.material) return preview_pieces(pieces, &field.zeta);
   const glm::uvec3 n = field.zeta.dims;
   const double nodes = double(n.x) * double(n.y) * double(n.z);
-  const unsigned k = unsigned(std::clamp(std::floor(std::cbrt(kColourNodes / nodes)), 1.0, 4.0));
-  Grid3 finer;
-  finer.dims = k * (n - 1u) + 1u, finer.origin = field.zeta.origin, finer.cell = field.zeta.cell / double(k);
-  const std::optional<std::array<Grid3, 3>> albedo = sample_albedo(*field.material, finer);
+  const double f = std::min(4.0, std::cbrt(kColourNodes / nodes));  // colour nodes per ζ cell and axis
+  Grid3 colours;
+  colours.origin = field.zeta.origin, colours.cell = field.zeta.cell / f;
+  for (int a = 0; a < 3; ++a) colours.dims[a] = unsigned(std::floor(double(n[a] - 1) * f + 1e-9)) + 1u;
+  const std::optional<std::array<Grid3, 3>> albedo = sample_albedo(*field.material, colours);
   return preview_pieces(pieces, &field.zeta, albedo ? &*albedo : nullptr);
 }
 
