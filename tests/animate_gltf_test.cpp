@@ -7,6 +7,8 @@
 // rigid fit itself.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -210,6 +212,25 @@ TEST_F(AnimateGltf, NodesMeshesAndPrimitivesFollowThePiecesWithRimCopies) {
   EXPECT_EQ(accessor_values(g, prims[1]["indices"]), (std::vector<double>{4, 6, 5}));
   const std::vector<double> m = accessor_values(g, prims[0]["attributes"]["_MATERIAL_POSITION"]);
   EXPECT_EQ(std::vector<double>(m.begin() + 12, m.begin() + 15), (std::vector<double>{1, 0, 0}));  // copy of local 0
+}
+
+TEST_F(AnimateGltf, FractureFacesCarryTheColoursAskedForOnAWhiteBase) {
+  const Glb plain = parse_glb(encode_animation_glb(set, result));
+  EXPECT_FALSE(plain.json["meshes"][0]["primitives"][1]["attributes"].contains("COLOR_0"));
+  EXPECT_EQ(plain.json["materials"][1]["pbrMetallicRoughness"]["baseColorFactor"][0], 0.85);
+  GltfOptions o;
+  // A colour that shows where it was taken: the material position, clamped into [0, 1].
+  o.inside_color = [](const glm::dvec3& p) { return glm::vec3(p) * 0.5f + glm::vec3(0.25f); };
+  const Glb g = parse_glb(encode_animation_glb(set, result, o));
+  EXPECT_EQ(g.json["materials"][1]["pbrMetallicRoughness"]["baseColorFactor"], Json::array({1, 1, 1, 1}));
+  for (std::size_t p = 0; p < 2; ++p) {
+    const Json& prims = g.json["meshes"][p]["primitives"];
+    EXPECT_FALSE(prims[0]["attributes"].contains("COLOR_0"));  // the exterior keeps its grey
+    const std::vector<double> c = accessor_values(g, prims[1]["attributes"]["COLOR_0"]);
+    const std::vector<double> m = accessor_values(g, prims[1]["attributes"]["_MATERIAL_POSITION"]);
+    ASSERT_EQ(c.size(), m.size());
+    for (std::size_t i = 0; i < c.size(); ++i) EXPECT_FLOAT_EQ(float(c[i]), std::clamp(float(m[i]) * 0.5f + 0.25f, 0.0f, 1.0f));
+  }
 }
 
 TEST_F(AnimateGltf, NormalsAreUnitSmoothPerMaterialAndSplitAtTheRim) {

@@ -438,6 +438,24 @@ TEST_F(CheckOutput, GlbJsonThatDoesNotFitTheBinChunkOrThePiecesIsNamed) {
   EXPECT_EQ(failures_of("glb"), "animation.glb: JSON chunk: key 'asset': duplicate key (a key may appear only once per object)\n");
 }
 
+TEST_F(CheckOutput, FractureFaceColoursAreOnePerVertexAndInTheUnitRange) {
+  for (const float c : {0.5f, 1.5f}) {
+    HandGlb g(set_, 3);
+    const std::size_t position = g.json["meshes"][0]["primitives"][1]["attributes"]["POSITION"];
+    const std::size_t vertices = g.json["accessors"][position]["count"];
+    const std::size_t colour = g.add_floats(std::vector<float>(3 * vertices, c), "VEC3");
+    g.json["meshes"][0]["primitives"][1]["attributes"]["COLOR_0"] = colour;
+    g.json["buffers"][0]["byteLength"] = g.bin.size();
+    write("animation.glb", g.pack());
+    if (c <= 1.0f) {
+      const CheckReport r = check_output(dir_);
+      for (const std::string& f : r.failures) ADD_FAILURE() << f;
+    } else {
+      EXPECT_NE(failures_of("glb").find("COLOR_0: a colour component 1.5"), std::string::npos);
+    }
+  }
+}
+
 TEST_F(CheckOutput, NotAFracrefOutputIsAnInputError) {
   auto message = [&] {
     try {

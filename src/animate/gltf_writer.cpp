@@ -43,6 +43,7 @@ struct PieceMesh {
 // Per piece, its accessors.
 struct MeshRefs {
   std::size_t position = 0, normal = 0, texcoord = 0, material = 0;
+  std::optional<std::size_t> color;  // COLOR_0 of the fracture faces, when the options give colours
   std::optional<std::size_t> exterior, inside;
   std::vector<std::size_t> targets;  // deforming pieces: one POSITION accessor per kept frame after the first
   std::size_t translation = 0, rotation = 0;  // rigid pieces with an animation: sampler outputs
@@ -98,8 +99,10 @@ std::size_t add_indices(Glb& g, const std::vector<Tri>& faces) {
   return g.add(std::move(a), begin, kElementArrayBuffer);
 }
 
-// POSITION, NORMAL, TEXCOORD_0, _MATERIAL_POSITION and the two index lists of one piece.
-MeshRefs add_mesh(Glb& g, const PieceMesh& m, const std::vector<glm::dvec3>& material, const MaterialBox& box) {
+// POSITION, NORMAL, TEXCOORD_0, _MATERIAL_POSITION, COLOR_0 when coloured, and the two index
+// lists of one piece.
+MeshRefs add_mesh(Glb& g, const PieceMesh& m, const std::vector<glm::dvec3>& material, const MaterialBox& box,
+                  const GltfOptions& o) {
   MeshRefs r;
   r.position = add_floats(g, m.base_float, 3, "VEC3", true, kArrayBuffer);
   r.normal = add_floats(g, floats_of(m.split.normals), 3, "VEC3", false, kArrayBuffer);
@@ -112,6 +115,14 @@ MeshRefs add_mesh(Glb& g, const PieceMesh& m, const std::vector<glm::dvec3>& mat
   }
   r.texcoord = add_floats(g, uv, 2, "VEC2", false, kArrayBuffer);
   r.material = add_floats(g, floats_of(mat), 3, "VEC3", false, kArrayBuffer);
+  if (o.inside_color) {
+    std::vector<float> rgb;
+    for (const glm::dvec3& x : mat) {
+      const glm::vec3 c = glm::clamp(o.inside_color(x), glm::vec3(0.0f), glm::vec3(1.0f));
+      rgb.insert(rgb.end(), {c.r, c.g, c.b});
+    }
+    r.color = add_floats(g, rgb, 3, "VEC3", false, kArrayBuffer);
+  }
   if (!m.split.outside.empty()) r.exterior = add_indices(g, m.split.outside);
   if (!m.split.inside.empty()) r.inside = add_indices(g, m.split.inside);
   return r;
@@ -164,7 +175,8 @@ GltfSummary plan(std::size_t frames, const std::vector<PieceMesh>& meshes, const
   std::size_t fixed = 0, deforming = 0, rigid = 0;
   for (std::size_t p = 0; p < meshes.size(); ++p) {
     const std::size_t n = meshes[p].split.normals.size();
-    fixed += 44 * n + 12 * (meshes[p].split.outside.size() + meshes[p].split.inside.size());
+    // Per vertex: POSITION, NORMAL, _MATERIAL_POSITION 12 bytes each, TEXCOORD_0 8, COLOR_0 12.
+    fixed += (o.inside_color ? 56 : 44) * n + 12 * (meshes[p].split.outside.size() + meshes[p].split.inside.size());
     motion[p].rigid ? ++rigid : deforming += n;
   }
   GltfSummary s;
@@ -212,6 +224,7 @@ void write_nodes(JsonWriter& w, const std::vector<PieceMotion>& motion) {
 void write_primitive(JsonWriter& w, const MeshRefs& m, std::size_t indices, int material) {
   w.open('{').key("attributes").open('{').key("POSITION").integer(m.position).key("NORMAL").integer(m.normal);
   if (material == 1) w.key("TEXCOORD_0").integer(m.texcoord);
+  if (material == 1 && m.color) w.key("COLOR_0").integer(*m.color);
   w.key("_MATERIAL_POSITION").integer(m.material).close('}');
   w.key("indices").integer(indices).key("material").integer(std::uint64_t(material)).key("mode").integer(4);
   if (!m.targets.empty()) {
@@ -239,10 +252,12 @@ void write_meshes(JsonWriter& w, const std::vector<MeshRefs>& meshes, const std:
   w.close(']');
 }
 
-// The colours of frames.mtl (outside grey, inside warm), as linear base colours.
-void write_materials(JsonWriter& w) {
+// The colours of frames.mtl (outside grey, inside warm), as linear base colours; inside white
+// when the fracture faces carry their own colours (COLOR_0, which the base colour multiplies).
+void write_materials(JsonWriter& w, bool coloured) {
   w.key("materials").open('[');
-  const std::pair<const char*, std::array<double, 3>> materials[] = {{"exterior", {0.8, 0.8, 0.8}}, {"inside", {0.85, 0.55, 0.35}}};
+  const std::array<double, 3> inside = coloured ? std::array<double, 3>{1.0, 1.0, 1.0} : std::array<double, 3>{0.85, 0.55, 0.35};
+  const std::pair<const char*, std::array<double, 3>> materials[] = {{"exterior", {0.8, 0.8, 0.8}}, {"inside", inside}};
   for (const auto& [name, rgb] : materials) {
     w.open('{').key("name").str(name).key("pbrMetallicRoughness").open('{').key("baseColorFactor").open('[');
     for (double c : rgb) w.real(c);
@@ -359,7 +374,7 @@ std::string encode(const PieceSet& pieces, const FrameSource& src, const GltfOpt
   const std::vector<std::size_t> kept = gltf_kept_frames(src.count, s.frame_step);
   Glb g;
   std::vector<MeshRefs> refs;
-  for (std::size_t p = 0; p < meshes.size(); ++p) refs.push_back(add_mesh(g, meshes[p], rest[p], box));
+  for (std::size_t p = 0; p < meshes.size(); ++p) refs.push_back(add_mesh(g, meshes[p], rest[p], box, o));
   add_animation_data(g, refs, src, meshes, motion, kept);
   std::pair<std::size_t, std::size_t> keys;
   if (kept.size() > 1) keys = add_keys(g, kept, src.fps, s.rigid_pieces < meshes.size());
@@ -368,7 +383,7 @@ std::string encode(const PieceSet& pieces, const FrameSource& src, const GltfOpt
   write_asset(w);
   write_nodes(w, motion);
   write_meshes(w, refs, kept);
-  write_materials(w);
+  write_materials(w, bool(o.inside_color));
   write_accessors(w, g);
   if (kept.size() > 1) write_animation(w, refs, motion, keys, s);
   w.close('}');

@@ -31,6 +31,7 @@
 //  With a single frame there are no morph targets and no animation.
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,10 @@ struct GltfOptions {
   /// A piece is rigid when no vertex is further than this fraction of the pieces' material
   /// bounding-box diagonal from where its fitted node transform puts it, in any frame.
   double rigid_tolerance = 1e-6;
+  /// When set, the fracture faces carry COLOR_0: this colour (linear RGB in [0, 1]) at each
+  /// vertex's material-space position, and their material's base colour is white so that the
+  /// vertex colours show as they are (the material's own colours, or ζ's ramp).
+  std::function<glm::vec3(const glm::dvec3& material_position)> inside_color;
 };
 
 /// What encode_animation_glb wrote.

@@ -106,6 +106,11 @@ void check_primitive(const GlbFile& g, const Json& prim, const PieceFile& f, con
   const std::size_t material = index_at(prim, "material", where, array_of(g.j, "materials", "gltf").size());
   const bool inside = g.j["materials"][material].value("name", std::string()) == "inside";
   if (inside) attribute(g, prim, "TEXCOORD_0", "VEC2", e.count(), where);
+  if (inside && prim.contains("attributes") && prim["attributes"].contains("COLOR_0")) {
+    const std::size_t c = attribute(g, prim, "COLOR_0", "VEC3", e.count(), where);
+    for (const double v : float_values(g, c, 3, where + ".COLOR_0"))
+      if (!(v >= 0.0 && v <= 1.0)) throw Problem(where + ".COLOR_0: a colour component " + std::to_string(v) + " outside [0, 1]");
+  }
   const std::vector<Tri> faces = read_triangles(g, g.acc[index_at(prim, "indices", where, g.acc.size())], e.count(), where);
   if (faces != (inside ? e.inside : e.outside))
     throw Problem(where + ": its " + std::to_string(faces.size()) + " triangles differ from the " + (inside ? "inside" : "outside") +

@@ -130,22 +130,34 @@ Field build_field(const Scene& scene, const ExteriorSurface& b, const CoarseMode
   return f;
 }
 
-// preview.png: the pieces in their material's own colours where it has some, else by ζ. The
-// colours are sampled when the picture is drawn (so the set-up's time is the refinement's alone)
-// over ζ's box, up to four times finer than ζ's grid per axis (at ζ's own spacing a marble vein's
-// edge shows the grid's cells as steps) and within kColourNodes nodes (48 MB), coarser than ζ's
-// grid where that is larger: a 1600×1000 picture shows no more.
-Image pieces_picture(const PieceSet& pieces, const Field& field) {
+// The material's own colours, where it has some, for preview.png and animation.glb: sampled
+// when the pieces are drawn or written (so the set-up's time is the refinement's alone), over
+// ζ's box, up to four times finer than ζ's grid per axis (at ζ's own spacing a marble vein's edge
+// shows the grid's cells as steps) and within kColourNodes nodes (48 MB), coarser than ζ's grid
+// where that is larger: a 1600×1000 picture shows no more. None for the other materials (ζ's
+// ramp colours them).
+std::optional<std::array<Grid3, 3>> material_colours(const Field& field) {
   constexpr double kColourNodes = 4e6;
-  if (!field.material) return preview_pieces(pieces, &field.zeta);
+  if (!field.material) return std::nullopt;
   const glm::uvec3 n = field.zeta.dims;
   const double nodes = double(n.x) * double(n.y) * double(n.z);
   const double f = std::min(4.0, std::cbrt(kColourNodes / nodes));  // colour nodes per ζ cell and axis
   Grid3 colours;
   colours.origin = field.zeta.origin, colours.cell = field.zeta.cell / f;
   for (int a = 0; a < 3; ++a) colours.dims[a] = unsigned(std::floor(double(n[a] - 1) * f + 1e-9)) + 1u;
-  const std::optional<std::array<Grid3, 3>> albedo = sample_albedo(*field.material, colours);
-  return preview_pieces(pieces, &field.zeta, albedo ? &*albedo : nullptr);
+  return sample_albedo(*field.material, colours);
+}
+
+// animation.glb's fracture faces in the colours preview.png gives them.
+GltfOptions coloured_glb(const std::optional<std::array<Grid3, 3>>& albedo, const StrengthRamp& ramp) {
+  GltfOptions g;
+  if (albedo)
+    g.inside_color = [&rgb = *albedo](const glm::dvec3& p) {
+      return glm::vec3(sample_trilinear(rgb[0], p), sample_trilinear(rgb[1], p), sample_trilinear(rgb[2], p));
+    };
+  else
+    g.inside_color = [&ramp](const glm::dvec3& p) { return ramp.at(p); };
+  return g;
 }
 
 RefineOptions refine_options(const Scene& scene, const JobOptions& o, const CoarseModel& model, double diag) {
@@ -261,18 +273,25 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   if (scene.output.obj) write_piece_objs(pieces, out);
   report.seconds("pieces", seconds_since(t_pieces));
   if (o.stop_after == Stage::pieces || animation.frames.empty())
-    return report.finish(out, seconds_since(t0), [&] { return pieces_picture(pieces, field); });
+    return report.finish(out, seconds_since(t0), [&] {
+      const auto albedo = material_colours(field);
+      return preview_pieces(pieces, &field.zeta, albedo ? &*albedo : nullptr);
+    });
   progress("animate", 0.0, std::to_string(animation.frames.size()) + " frames");
   const auto t_animate = Clock::now();
   AnimationTransfer transfer = build_transfer(model, animation, refined.tree, pieces);
   const FramesFormat format = scene.output.frames_format == "obj" ? FramesFormat::kObj : FramesFormat::kBinary;
   if (scene.output.frames) write_frames(pieces, transfer, animation, out, format);
   report.animated(transfer, scene.output.frames ? animation.frames.size() : 0);
-  if (scene.output.glb) report.gltf(write_animation_glb(pieces, transfer, animation, out / "animation.glb"));
+  const std::optional<std::array<Grid3, 3>> albedo =
+      scene.output.glb || scene.output.preview ? material_colours(field) : std::nullopt;
+  const StrengthRamp ramp(field.zeta);
+  if (scene.output.glb)
+    report.gltf(write_animation_glb(pieces, transfer, animation, out / "animation.glb", coloured_glb(albedo, ramp)));
   const int sheet = o.preview_frames.value_or(scene.output.preview_frames);
   if (sheet > 0) write_png(out / "preview_frames.png", preview_frames(pieces, transfer, animation, sheet));
   report.seconds("animate", seconds_since(t_animate));
-  return report.finish(out, seconds_since(t0), [&] { return pieces_picture(pieces, field); });
+  return report.finish(out, seconds_since(t0), [&] { return preview_pieces(pieces, &field.zeta, albedo ? &*albedo : nullptr); });
 }
 
 }  // namespace fracref
