@@ -148,16 +148,15 @@ std::optional<std::array<Grid3, 3>> material_colours(const Field& field) {
   return sample_albedo(*field.material, colours);
 }
 
-// animation.glb's fracture faces in the colours preview.png gives them.
-GltfOptions coloured_glb(const std::optional<std::array<Grid3, 3>>& albedo, const StrengthRamp& ramp) {
-  GltfOptions g;
+// The fracture faces' colour at a material-space point, as preview.png gives it, for
+// animation.glb and preview_frames.png. Refers to `albedo` and `ramp`.
+std::function<glm::vec3(const glm::dvec3&)> face_colours(const std::optional<std::array<Grid3, 3>>& albedo,
+                                                         const StrengthRamp& ramp) {
   if (albedo)
-    g.inside_color = [&rgb = *albedo](const glm::dvec3& p) {
+    return [&rgb = *albedo](const glm::dvec3& p) {
       return glm::vec3(sample_trilinear(rgb[0], p), sample_trilinear(rgb[1], p), sample_trilinear(rgb[2], p));
     };
-  else
-    g.inside_color = [&ramp](const glm::dvec3& p) { return ramp.at(p); };
-  return g;
+  return [&ramp](const glm::dvec3& p) { return ramp.at(p); };
 }
 
 RefineOptions refine_options(const Scene& scene, const JobOptions& o, const CoarseModel& model, double diag) {
@@ -283,13 +282,15 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   const FramesFormat format = scene.output.frames_format == "obj" ? FramesFormat::kObj : FramesFormat::kBinary;
   if (scene.output.frames) write_frames(pieces, transfer, animation, out, format);
   report.animated(transfer, scene.output.frames ? animation.frames.size() : 0);
-  const std::optional<std::array<Grid3, 3>> albedo =
-      scene.output.glb || scene.output.preview ? material_colours(field) : std::nullopt;
-  const StrengthRamp ramp(field.zeta);
-  if (scene.output.glb)
-    report.gltf(write_animation_glb(pieces, transfer, animation, out / "animation.glb", coloured_glb(albedo, ramp)));
   const int sheet = o.preview_frames.value_or(scene.output.preview_frames);
-  if (sheet > 0) write_png(out / "preview_frames.png", preview_frames(pieces, transfer, animation, sheet));
+  const std::optional<std::array<Grid3, 3>> albedo =
+      scene.output.glb || scene.output.preview || sheet > 0 ? material_colours(field) : std::nullopt;
+  const StrengthRamp ramp(field.zeta);
+  const auto colour_at = face_colours(albedo, ramp);
+  if (scene.output.glb)
+    report.gltf(write_animation_glb(pieces, transfer, animation, out / "animation.glb", {.inside_color = colour_at}));
+  if (sheet > 0)
+    write_png(out / "preview_frames.png", preview_frames(pieces, transfer, animation, sheet, colour_at));
   report.seconds("animate", seconds_since(t_animate));
   return report.finish(out, seconds_since(t0), [&] { return preview_pieces(pieces, &field.zeta, albedo ? &*albedo : nullptr); });
 }

@@ -81,9 +81,11 @@ double allowed_distance(const WeightsSpec& w, const Grid3& zeta, double diagonal
 Image preview_pieces(const PieceSet& pieces, const Grid3* zeta = nullptr, const std::array<Grid3, 3>* albedo = nullptr);
 
 /// A contact sheet of `count` frames evenly spread over the animation (4 per row), each frame
-/// the pieces at their animated positions, each picture framed on its own.
+/// the pieces at their animated positions, each picture framed on its own; the fracture faces
+/// coloured by `color_at` at each pixel's material-space point when it is given (the colours of
+/// preview.png), else by their piece.
 Image preview_frames(const PieceSet& pieces, const AnimationTransfer& transfer, const CoarseAnimation& animation,
-                     int count);
+                     int count, const std::function<glm::vec3(const glm::dvec3&)>& color_at = {});
 
 /// Two views side by side: the fracture surface coloured by piece, and the exterior.
 Image preview_surface(const FractureSurface& s, const MeshSoup& exterior);
