@@ -4,6 +4,8 @@
 // `fracref check` reads back against the glb (node transforms and morph weights applied).
 #include <gtest/gtest.h>
 
+#include <png.h>
+
 #include <cmath>
 
 #include <nlohmann/json.hpp>
@@ -33,6 +35,18 @@ constexpr const char* kQuick = " --backend cpu -q --set refine.tau=0.002 --set r
 }
 
 nlohmann::json report_of(const fs::path& out) { return nlohmann::json::parse(slurp(out / "report.json")); }
+
+// The RGB8 pixels of a PNG file; empty when it cannot be read.
+std::vector<std::uint8_t> png_pixels(const fs::path& file, int& width, int& height) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_file(&image, file.string().c_str())) return {};
+  image.format = PNG_FORMAT_RGB;
+  std::vector<std::uint8_t> rgb(PNG_IMAGE_SIZE(image));
+  if (!png_image_finish_read(&image, nullptr, rgb.data(), 0, nullptr)) return {};
+  width = int(image.width), height = int(image.height);
+  return rgb;
+}
 
 }  // namespace
 
@@ -82,6 +96,23 @@ TEST_P(CliDeformingDemo, GlbMatchesItsFramesAndValidates) {
   bool skipped = false;
   EXPECT_TRUE(validates(out / "animation.glb", skipped));
   if (skipped) GTEST_SKIP() << "node or the npm package gltf-validator is missing (bash .ci/setup test installs it)";
+}
+
+// --preview-frames: the Jell-O breaking up, its fracture faces in the jelly's red (preview.png's
+// colours), not in the pieces' palette (whose red is pale beside it).
+TEST(CliOutputs, PreviewFramesShowTheFractureFacesInTheMaterialsColours) {
+  TempDir t;
+  const fs::path out = t.path / "jello";
+  auto r = run("demo jello -o " + out.string() + " --backend cpu -q --set refine.max_iterations=4 --preview-frames 4");
+  ASSERT_EQ(r.code, 0) << r.err;
+  int width = 0, height = 0;
+  const std::vector<std::uint8_t> rgb = png_pixels(out / "preview_frames.png", width, height);
+  ASSERT_FALSE(rgb.empty());
+  EXPECT_EQ(width, 4 * 320);
+  EXPECT_EQ(height, 240);
+  std::size_t jelly = 0;
+  for (std::size_t i = 0; i + 2 < rgb.size(); i += 3) jelly += rgb[i] > 90 && 100 * rgb[i + 1] < 35 * rgb[i];
+  EXPECT_GT(jelly, 500u);
 }
 
 // The demos' deforming pieces move every vertex; sparse targets are made here: two tetrahedra
