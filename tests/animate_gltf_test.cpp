@@ -233,6 +233,23 @@ TEST_F(AnimateGltf, FractureFacesCarryTheColoursAskedForOnAWhiteBase) {
   }
 }
 
+TEST_F(AnimateGltf, ExteriorFacesCarryTheColoursTooWhenAsked) {
+  GltfOptions o;
+  o.inside_color = [](const glm::dvec3&) { return glm::vec3(0.2f, 0.4f, 0.6f); };
+  o.color_exterior = true;
+  const Glb g = parse_glb(encode_animation_glb(set, result, o));
+  EXPECT_EQ(g.json["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"], Json::array({1, 1, 1, 1}));
+  for (std::size_t p = 0; p < 2; ++p) {
+    const Json& prims = g.json["meshes"][p]["primitives"];
+    ASSERT_TRUE(prims[0]["attributes"].contains("COLOR_0"));
+    EXPECT_EQ(prims[0]["attributes"]["COLOR_0"], prims[1]["attributes"]["COLOR_0"]);  // one array, both materials
+  }
+  o.inside_color = nullptr;  // nothing to colour with: the flag alone changes nothing
+  const Glb plain = parse_glb(encode_animation_glb(set, result, o));
+  EXPECT_FALSE(plain.json["meshes"][0]["primitives"][0]["attributes"].contains("COLOR_0"));
+  EXPECT_EQ(plain.json["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"][0], 0.8);
+}
+
 TEST_F(AnimateGltf, NormalsAreUnitSmoothPerMaterialAndSplitAtTheRim) {
   const Glb g = parse_glb(encode_animation_glb(set, result));
   const std::vector<double> n = accessor_values(g, g.json["meshes"][0]["primitives"][0]["attributes"]["NORMAL"]);

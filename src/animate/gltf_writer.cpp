@@ -221,10 +221,10 @@ void write_nodes(JsonWriter& w, const std::vector<PieceMotion>& motion) {
   w.close(']');
 }
 
-void write_primitive(JsonWriter& w, const MeshRefs& m, std::size_t indices, int material) {
+void write_primitive(JsonWriter& w, const MeshRefs& m, std::size_t indices, int material, bool exterior_colored) {
   w.open('{').key("attributes").open('{').key("POSITION").integer(m.position).key("NORMAL").integer(m.normal);
   if (material == 1) w.key("TEXCOORD_0").integer(m.texcoord);
-  if (material == 1 && m.color) w.key("COLOR_0").integer(*m.color);
+  if (m.color && (material == 1 || exterior_colored)) w.key("COLOR_0").integer(*m.color);
   w.key("_MATERIAL_POSITION").integer(m.material).close('}');
   w.key("indices").integer(indices).key("material").integer(std::uint64_t(material)).key("mode").integer(4);
   if (!m.targets.empty()) {
@@ -235,12 +235,13 @@ void write_primitive(JsonWriter& w, const MeshRefs& m, std::size_t indices, int 
   w.close('}');
 }
 
-void write_meshes(JsonWriter& w, const std::vector<MeshRefs>& meshes, const std::vector<std::size_t>& kept) {
+void write_meshes(JsonWriter& w, const std::vector<MeshRefs>& meshes, const std::vector<std::size_t>& kept,
+                  bool exterior_colored) {
   w.key("meshes").open('[');
   for (std::size_t p = 0; p < meshes.size(); ++p) {
     w.open('{').key("name").str(numbered("piece_%03zu", p)).key("primitives").open('[');
-    if (meshes[p].exterior) write_primitive(w, meshes[p], *meshes[p].exterior, 0);
-    if (meshes[p].inside) write_primitive(w, meshes[p], *meshes[p].inside, 1);
+    if (meshes[p].exterior) write_primitive(w, meshes[p], *meshes[p].exterior, 0, exterior_colored);
+    if (meshes[p].inside) write_primitive(w, meshes[p], *meshes[p].inside, 1, exterior_colored);
     w.close(']');
     if (!meshes[p].targets.empty()) {
       w.key("extras").open('{').key("targetNames").open('[');
@@ -252,12 +253,14 @@ void write_meshes(JsonWriter& w, const std::vector<MeshRefs>& meshes, const std:
   w.close(']');
 }
 
-// The colours of frames.mtl (outside grey, inside warm), as linear base colours; inside white
-// when the fracture faces carry their own colours (COLOR_0, which the base colour multiplies).
-void write_materials(JsonWriter& w, bool coloured) {
+// The colours of frames.mtl (outside grey, inside warm), as linear base colours; white where
+// the faces carry their own colours (COLOR_0, which the base colour multiplies).
+void write_materials(JsonWriter& w, bool inside_colored, bool exterior_colored) {
   w.key("materials").open('[');
-  const std::array<double, 3> inside = coloured ? std::array<double, 3>{1.0, 1.0, 1.0} : std::array<double, 3>{0.85, 0.55, 0.35};
-  const std::pair<const char*, std::array<double, 3>> materials[] = {{"exterior", {0.8, 0.8, 0.8}}, {"inside", inside}};
+  constexpr std::array<double, 3> kWhite{1.0, 1.0, 1.0};
+  const std::array<double, 3> inside = inside_colored ? kWhite : std::array<double, 3>{0.85, 0.55, 0.35};
+  const std::array<double, 3> exterior = exterior_colored ? kWhite : std::array<double, 3>{0.8, 0.8, 0.8};
+  const std::pair<const char*, std::array<double, 3>> materials[] = {{"exterior", exterior}, {"inside", inside}};
   for (const auto& [name, rgb] : materials) {
     w.open('{').key("name").str(name).key("pbrMetallicRoughness").open('{').key("baseColorFactor").open('[');
     for (double c : rgb) w.real(c);
@@ -382,8 +385,9 @@ std::string encode(const PieceSet& pieces, const FrameSource& src, const GltfOpt
   w.open('{');
   write_asset(w);
   write_nodes(w, motion);
-  write_meshes(w, refs, kept);
-  write_materials(w, bool(o.inside_color));
+  const bool exterior_colored = o.inside_color && o.color_exterior;
+  write_meshes(w, refs, kept, exterior_colored);
+  write_materials(w, bool(o.inside_color), exterior_colored);
   write_accessors(w, g);
   if (kept.size() > 1) write_animation(w, refs, motion, keys, s);
   w.close('}');

@@ -57,6 +57,10 @@ struct GltfOptions {
   /// vertex's material-space position, and their material's base colour is white so that the
   /// vertex colours show as they are (the material's own colours, or ζ's ramp).
   std::function<glm::vec3(const glm::dvec3& material_position)> inside_color;
+  /// With inside_color: the exterior faces carry it too (COLOR_0 on a white `exterior`
+  /// material), for a material whose own colours show on its outside as well (marble, wood,
+  /// jelly), unlike ζ's ramp.
+  bool color_exterior = false;
 };
 
 /// What encode_animation_glb wrote.

@@ -106,7 +106,7 @@ void check_primitive(const GlbFile& g, const Json& prim, const PieceFile& f, con
   const std::size_t material = index_at(prim, "material", where, array_of(g.j, "materials", "gltf").size());
   const bool inside = g.j["materials"][material].value("name", std::string()) == "inside";
   if (inside) attribute(g, prim, "TEXCOORD_0", "VEC2", e.count(), where);
-  if (inside && prim.contains("attributes") && prim["attributes"].contains("COLOR_0")) {
+  if (prim.contains("attributes") && prim["attributes"].contains("COLOR_0")) {
     const std::size_t c = attribute(g, prim, "COLOR_0", "VEC3", e.count(), where);
     for (const double v : float_values(g, c, 3, where + ".COLOR_0"))
       if (!(v >= 0.0 && v <= 1.0)) throw Problem(where + ".COLOR_0: a colour component " + std::to_string(v) + " outside [0, 1]");

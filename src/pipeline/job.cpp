@@ -288,7 +288,8 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   const StrengthRamp ramp(field.zeta);
   const auto colour_at = face_colours(albedo, ramp);
   if (scene.output.glb)
-    report.gltf(write_animation_glb(pieces, transfer, animation, out / "animation.glb", {.inside_color = colour_at}));
+    report.gltf(write_animation_glb(pieces, transfer, animation, out / "animation.glb",
+                                    {.inside_color = colour_at, .color_exterior = albedo.has_value()}));
   if (sheet > 0)
     write_png(out / "preview_frames.png", preview_frames(pieces, transfer, animation, sheet, colour_at));
   report.seconds("animate", seconds_since(t_animate));
