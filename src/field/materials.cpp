@@ -236,22 +236,23 @@ class Inclusions final : public Material {
     edge_ = params_.edge * frame.diagonal;
   }
   double strength(glm::dvec3 p) const override {
-    double sd = edge_;
-    for (const InclusionCube& c : cubes_) {
-      // Only cubes whose bounding sphere reaches within the blend band can change w.
-      const double reach = c.half_size * 1.7320508075688772 + edge_;
-      const glm::dvec3 v = p - c.centre;
-      if (glm::dot(v, v) >= reach * reach) continue;
-      sd = std::min(sd, cube_signed_distance(c, p));
-    }
-    const double w = smoothstep(edge_, -edge_, sd);
+    std::size_t nearest = 0;
+    const double w = smoothstep(edge_, -edge_, cube_distance(p, nearest));
     return clamp01(lerp(params_.matrix_strength, params_.inclusion_strength, w) +
                    params_.noise_amplitude * noise_(frame_.noise_coords(p)));
   }
   // Red jelly; each cube a fruit of its own colour (the nearest cube's, where cubes overlap).
   std::optional<glm::vec3> albedo(glm::dvec3 p) const override {
-    double sd = edge_;
     std::size_t nearest = 0;
+    const double w = smoothstep(edge_, -edge_, cube_distance(p, nearest));
+    return mix(kJelly, kFruit[nearest % (sizeof kFruit / sizeof kFruit[0])], w);
+  }
+
+ private:
+  // The signed distance to the nearest cube, capped at edge_ (beyond it w is 0), and that cube.
+  // Only cubes whose bounding sphere reaches within the blend band can be nearer.
+  double cube_distance(glm::dvec3 p, std::size_t& nearest) const {
+    double sd = edge_;
     for (std::size_t k = 0; k < cubes_.size(); ++k) {
       const InclusionCube& c = cubes_[k];
       const double reach = c.half_size * 1.7320508075688772 + edge_;
@@ -259,11 +260,9 @@ class Inclusions final : public Material {
       if (glm::dot(v, v) >= reach * reach) continue;
       if (const double d = cube_signed_distance(c, p); d < sd) sd = d, nearest = k;
     }
-    const glm::vec3 fruit = kFruit[nearest % (sizeof kFruit / sizeof kFruit[0])];
-    return mix(kJelly, fruit, smoothstep(edge_, -edge_, sd));
+    return sd;
   }
 
- private:
   InclusionParams params_;
   const PerlinNoise& noise_;
   MaterialFrame frame_;

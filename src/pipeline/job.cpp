@@ -148,17 +148,6 @@ std::optional<std::array<Grid3, 3>> material_colours(const Field& field) {
   return sample_albedo(*field.material, colours);
 }
 
-// The fracture faces' colour at a material-space point, as preview.png gives it, for
-// animation.glb and preview_frames.png. Refers to `albedo` and `ramp`.
-std::function<glm::vec3(const glm::dvec3&)> face_colours(const std::optional<std::array<Grid3, 3>>& albedo,
-                                                         const StrengthRamp& ramp) {
-  if (albedo)
-    return [&rgb = *albedo](const glm::dvec3& p) {
-      return glm::vec3(sample_trilinear(rgb[0], p), sample_trilinear(rgb[1], p), sample_trilinear(rgb[2], p));
-    };
-  return [&ramp](const glm::dvec3& p) { return ramp.at(p); };
-}
-
 RefineOptions refine_options(const Scene& scene, const JobOptions& o, const CoarseModel& model, double diag) {
   RefineOptions r;
   r.scale = diag;
@@ -286,7 +275,7 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   const std::optional<std::array<Grid3, 3>> albedo =
       scene.output.glb || scene.output.preview || sheet > 0 ? material_colours(field) : std::nullopt;
   const StrengthRamp ramp(field.zeta);
-  const auto colour_at = face_colours(albedo, ramp);
+  const FractureColour colour_at = fracture_colour(albedo ? &*albedo : nullptr, ramp);  // preview.png's colours
   if (scene.output.glb)
     report.gltf(write_animation_glb(pieces, transfer, animation, out / "animation.glb",
                                     {.inside_color = colour_at, .color_exterior = albedo.has_value()}));

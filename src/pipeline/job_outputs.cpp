@@ -197,7 +197,7 @@ double allowed_distance(const WeightsSpec& w, const Grid3& zeta, double diagonal
 }
 
 Image preview_frames(const PieceSet& set, const AnimationTransfer& transfer, const CoarseAnimation& animation,
-                     int count, const std::function<glm::vec3(const glm::dvec3&)>& color_at) {
+                     int count, const FractureColour& color_at) {
   const std::size_t n = animation.frames.size();
   std::vector<std::vector<PreviewMesh>> scenes;
   for (int k = 0; k < count && n > 0; ++k) {
@@ -219,12 +219,7 @@ Image preview_frames(const PieceSet& set, const AnimationTransfer& transfer, con
         groups.push_back(piece.inside[f] ? 1 : 0);
       }
       smooth_corner_normals(m, kPreviewCrease, groups);
-      if (color_at)
-        m.paint = [&set, p, &color_at, exterior = m.triangle_colors](std::size_t f, const glm::dvec3& b) {
-          if (!set.pieces[p].inside[f]) return exterior[f];
-          const auto& t = set.pieces[p].triangles[f];
-          return color_at(b.x * set.positions[t[0]] + b.y * set.positions[t[1]] + b.z * set.positions[t[2]]);
-        };
+      if (color_at) m.paint = paint_piece(set, p, color_at, glm::vec3(0.86f, 0.86f, 0.88f));
       meshes.push_back(std::move(m));
     }
     scenes.push_back(std::move(meshes));

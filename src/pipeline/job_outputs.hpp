@@ -16,6 +16,7 @@
 #include "io/mesh_soup.hpp"
 #include "pieces/pieces.hpp"
 #include "pipeline/quality.hpp"
+#include "pipeline/surface_preview.hpp"
 #include "preview/raster.hpp"
 #include "refine/refine.hpp"
 #include "scene/scene.hpp"
@@ -85,7 +86,13 @@ Image preview_pieces(const PieceSet& pieces, const Grid3* zeta = nullptr, const 
 /// coloured by `color_at` at each pixel's material-space point when it is given (the colours of
 /// preview.png), else by their piece.
 Image preview_frames(const PieceSet& pieces, const AnimationTransfer& transfer, const CoarseAnimation& animation,
-                     int count, const std::function<glm::vec3(const glm::dvec3&)>& color_at = {});
+                     int count, const FractureColour& color_at = {});
+
+/// PreviewMesh::paint for piece p drawn with its triangles in order: its exterior faces
+/// `exterior`, its fracture faces `colour` at each pixel's point of the piece (the pieces' own,
+/// material-space positions). Implemented in pieces_preview.cpp; refers to `pieces` and `colour`.
+std::function<glm::vec3(std::size_t, const glm::dvec3&)> paint_piece(const PieceSet& pieces, std::size_t p,
+                                                                     const FractureColour& colour, glm::vec3 exterior);
 
 /// Two views side by side: the fracture surface coloured by piece, and the exterior.
 Image preview_surface(const FractureSurface& s, const MeshSoup& exterior);

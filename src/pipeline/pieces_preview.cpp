@@ -8,7 +8,6 @@
 #include <optional>
 #include <unordered_map>
 
-#include "field/field_sampler.hpp"
 #include "pipeline/job_outputs.hpp"
 #include "pipeline/surface_preview.hpp"
 
@@ -75,9 +74,9 @@ std::vector<glm::dvec3> piece_views(const PieceSet& set, const PieceSet::Piece& 
 // fracture faces are coloured by ζ at each pixel's point of the piece (a fruit cube cut across
 // shows as a square, not as the triangles around it) and lit smoothly (kPreviewCrease), apart
 // from the exterior's.
-PreviewMesh turned_piece(const PieceSet& set, const PieceSet::Piece& piece, const glm::dvec3& view,
-                         const std::function<glm::vec3(const glm::dvec3&)>& color_at, const glm::vec3& plain,
-                         const glm::vec3& exterior) {
+PreviewMesh turned_piece(const PieceSet& set, std::size_t p, const glm::dvec3& view, const FractureColour& color_at,
+                         const glm::vec3& plain, const glm::vec3& exterior) {
+  const PieceSet::Piece& piece = set.pieces[p];
   const glm::dmat3 r = rotation_between(view, kToCamera);
   PreviewMesh m;
   std::vector<int> groups;
@@ -98,15 +97,9 @@ PreviewMesh turned_piece(const PieceSet& set, const PieceSet::Piece& piece, cons
     m.triangle_colors.push_back(piece.inside[f] ? plain : exterior);
     groups.push_back(piece.inside[f] ? 1 : 0);
   }
-  for (glm::dvec3& p : m.positions) p -= 0.5 * (lo + hi);
+  for (glm::dvec3& x : m.positions) x -= 0.5 * (lo + hi);
   smooth_corner_normals(m, kPreviewCrease, groups);
-  if (color_at) {  // at each pixel's point of the piece, which a cube of fruit cut across needs
-    m.paint = [&set, &piece, &color_at, exterior](std::size_t f, const glm::dvec3& b) {
-      if (!piece.inside[f]) return exterior;
-      const auto& t = piece.triangles[f];
-      return color_at(b.x * set.positions[t[0]] + b.y * set.positions[t[1]] + b.z * set.positions[t[2]]);
-    };
-  }
+  if (color_at) m.paint = paint_piece(set, p, color_at, exterior);
   return m;
 }
 
@@ -118,22 +111,24 @@ glm::dvec3 extent(const PreviewMesh& m) {
 
 }  // namespace
 
+std::function<glm::vec3(std::size_t, const glm::dvec3&)> paint_piece(const PieceSet& set, std::size_t p,
+                                                                     const FractureColour& colour, glm::vec3 exterior) {
+  return [&set, p, &colour, exterior](std::size_t f, const glm::dvec3& b) {
+    if (!set.pieces[p].inside[f]) return exterior;
+    const auto& t = set.pieces[p].triangles[f];
+    return colour(b.x * set.positions[t[0]] + b.y * set.positions[t[1]] + b.z * set.positions[t[2]]);
+  };
+}
+
 Image preview_pieces(const PieceSet& set, const Grid3* zeta, const std::array<Grid3, 3>* albedo) {
   const std::optional<StrengthRamp> ramp = zeta ? std::optional<StrengthRamp>(std::in_place, *zeta) : std::nullopt;
-  std::function<glm::vec3(const glm::dvec3&)> color_at;
-  if (albedo)
-    color_at = [albedo](const glm::dvec3& p) {
-      const glm::vec3 c(sample_trilinear((*albedo)[0], p), sample_trilinear((*albedo)[1], p), sample_trilinear((*albedo)[2], p));
-      return glm::clamp(c, glm::vec3(0.0f), glm::vec3(1.0f));
-    };
-  else if (ramp)
-    color_at = [&ramp = *ramp](const glm::dvec3& p) { return ramp.at(p); };
+  const FractureColour color_at = ramp ? fracture_colour(albedo, *ramp) : FractureColour{};
   // Light beside ζ's ramp; darker beside the materials' own colours, which include white marble.
   const glm::vec3 exterior = albedo ? glm::vec3(0.50f, 0.52f, 0.56f) : glm::vec3(0.86f, 0.86f, 0.88f);
   std::vector<PreviewMesh> meshes;
   for (std::size_t p = 0; p < set.pieces.size(); ++p)
     for (const glm::dvec3& view : piece_views(set, set.pieces[p]))
-      meshes.push_back(turned_piece(set, set.pieces[p], view, color_at, piece_color(int(p)), exterior));
+      meshes.push_back(turned_piece(set, p, view, color_at, piece_color(int(p)), exterior));
   // One scale for every piece (their sizes compare), in a grid whose shape suits a 16:10 picture.
   glm::dvec3 cell(0.0);
   for (const PreviewMesh& m : meshes) cell = glm::max(cell, extent(m));

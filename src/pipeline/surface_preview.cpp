@@ -39,6 +39,15 @@ glm::vec3 StrengthRamp::at(const glm::dvec3& p) const {
   return strength_color(range_ > 0.0 ? (sample_trilinear(zeta_, p) - lo_) / range_ : 0.5);
 }
 
+FractureColour fracture_colour(const std::array<Grid3, 3>* albedo, const StrengthRamp& ramp) {
+  if (albedo)
+    return [albedo](const glm::dvec3& p) {
+      const glm::vec3 c(sample_trilinear((*albedo)[0], p), sample_trilinear((*albedo)[1], p), sample_trilinear((*albedo)[2], p));
+      return glm::clamp(c, glm::vec3(0.0f), glm::vec3(1.0f));
+    };
+  return [&ramp](const glm::dvec3& p) { return ramp.at(p); };
+}
+
 glm::dvec3 towards_walls(const std::vector<glm::dvec3>& normals, const glm::dvec3& view) {
   constexpr double kFewest = 0.05, kMost = 0.3, kFacing = 0.75, kTurn = 0.6;
   glm::dmat3 scatter(0.0);  // of the walls' unit directions across the view, by area
@@ -101,7 +110,9 @@ double view_score(const PreviewMesh& shape, const std::vector<glm::dvec3>& norma
 
 // Of the candidate directions, the one with the best view_score; the first on ties.
 glm::dvec3 best_view(const PreviewMesh& m, const std::vector<glm::dvec3>& normals, int width, int height) {
-  const PreviewMesh shape{m.positions, m.triangles, std::vector<glm::vec3>(m.triangles.size(), glm::vec3(1.0f))};
+  PreviewMesh shape;  // its outline only: flat, one colour
+  shape.positions = m.positions, shape.triangles = m.triangles;
+  shape.triangle_colors.assign(m.triangles.size(), glm::vec3(1.0f));
   const glm::dvec3 candidates[] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}, {-1, 1, 1}, {1, -1, 1}, {1, 1, -1}};
   glm::dvec3 best = candidates[0];
   double best_score = -1.0;

@@ -1,5 +1,8 @@
 #pragma once
 // Pictures of the fracture surface coloured by the material strength ζ.
+#include <array>
+#include <functional>
+
 #include <glm/glm.hpp>
 
 #include "field/grid.hpp"
@@ -28,6 +31,13 @@ class StrengthRamp {
   const Grid3& zeta_;
   double lo_ = 0.0, range_ = 0.0;
 };
+
+/// A fracture face's colour at a material-space point.
+using FractureColour = std::function<glm::vec3(const glm::dvec3& material_position)>;
+
+/// The material's own colours (`albedo`: sample_albedo's three channels, trilinear, clamped to
+/// [0, 1]) when given, else ζ's ramp. The result refers to both.
+FractureColour fracture_colour(const std::array<Grid3, 3>* albedo, const StrengthRamp& ramp);
 
 /// `view` (unit), turned 0.6 rad towards the side that most of the walls face when walls are
 /// 5% to 30% of the area: faces turned over 60 degrees from `view`, which would be seen edge-on
