@@ -75,16 +75,21 @@ TEST(BenchReport, RecordRunReadsEveryStageTheFinalEnergyAndTheCounts) {
 TEST(BenchReport, RecordRunReadsTheStopReasonAndTheQuality) {
   SceneBenchResult r;
   record_run(ordered_json::parse(R"({"refined_triangles": 40, "stop_reason": "converged",
-      "quality": {"energy_ratio": 0.7, "weak_fraction": {"coarse": 0.2, "refined": 0.3, "threshold": 0.25}}})"),
+      "quality": {"energy_ratio": 0.7, "weak_fraction": {"coarse": 0.2, "refined": 0.3, "threshold": 0.25,
+                                                      "reachable": {"radius": 0.02, "fraction": 0.35}}}})"),
              r);
   EXPECT_EQ(r.stop_reason, std::optional<std::string>("converged"));
   EXPECT_EQ(r.energy_ratio, std::optional<double>(0.7));
   EXPECT_EQ(r.weak_coarse, std::optional<double>(0.2));
   EXPECT_EQ(r.weak_refined, std::optional<double>(0.3));
+  EXPECT_EQ(r.weak_reachable, std::optional<double>(0.35));
+  const std::string table = scene_table({r}, 1, Stage::animate);
+  EXPECT_NE(table.find("0.200 -> 0.300 (reach 0.350)"), std::string::npos) << table;
   record_run(ordered_json::parse(R"({"coarse_triangles": 8})"), r);
   EXPECT_FALSE(r.stop_reason.has_value());
   EXPECT_FALSE(r.energy_ratio.has_value());
   EXPECT_FALSE(r.weak_refined.has_value());
+  EXPECT_FALSE(r.weak_reachable.has_value());
 }
 
 TEST(BenchReport, CompareBackendsPairsRunsAndAddsStartUp) {

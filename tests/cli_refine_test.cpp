@@ -337,6 +337,10 @@ TEST(CliRefine, DemoWallCracksMoveIntoTheInterfaces) {
   const nlohmann::json weak = nlohmann::json::parse(slurp(t.path / "wall" / "report.json"))["quality"]["weak_fraction"];
   EXPECT_GT(weak["refined"].get<double>(), 1.5 * weak["coarse"].get<double>()) << weak.dump();
   EXPECT_GT(weak["refined"].get<double>(), 0.5) << weak.dump();
+  // The interfaces lie within reach of the coarse cracks: from within the refined cracks' p95
+  // displacement of them, most of the coarse cracks' area could reach weak material.
+  EXPECT_GT(weak["reachable"]["fraction"].get<double>(), 0.5) << weak.dump();
+  EXPECT_LE(weak["reachable"]["half_radius"].get<double>(), weak["reachable"]["radius"].get<double>()) << weak.dump();
 }
 
 TEST(CliRefine, DemoWallRefinesIntoAValidSurface) {

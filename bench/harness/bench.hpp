@@ -59,6 +59,7 @@ struct SceneBenchResult {
   std::optional<std::string> stop_reason;  ///< the last run's report.json stop_reason
   /// The last run's quality: energy_ratio and weak_fraction's coarse and refined.
   std::optional<double> energy_ratio, weak_coarse, weak_refined;
+  std::optional<double> weak_reachable;  ///< quality.weak_fraction.reachable.fraction: the most within the p95 displacement
   std::uint64_t paper_coarse_triangles = 0, paper_refined_triangles = 0;  ///< from BenchScene
   double paper_seconds = 0.0;                                             ///< from BenchScene; 0 = unknown
   double startup_seconds = 0.0;     ///< from BenchBackend

@@ -109,7 +109,8 @@ ordered_json scene_json(const std::vector<SceneBenchResult>& all, const SceneBen
   j["iterations"] = or_null(r.iterations);
   j["stop_reason"] = or_null(r.stop_reason);
   j["energy_ratio"] = or_null(r.energy_ratio);
-  j["weak_fraction"] = {{"coarse", or_null(r.weak_coarse)}, {"refined", or_null(r.weak_refined)}};
+  j["weak_fraction"] = {{"coarse", or_null(r.weak_coarse)}, {"refined", or_null(r.weak_refined)},
+                        {"reachable", or_null(r.weak_reachable)}};
   j["final_energy"] = or_null(median_of(r.final_energy));
   j["samples_final_energy"] = r.final_energy;
   ordered_json med = ordered_json::object(), samples = ordered_json::object(), to_cpu = ordered_json::object();
@@ -176,7 +177,9 @@ Row scene_row(const SceneBenchResult& r) {
   row.push_back(energy ? energy_text(*energy) : "-");
   row.push_back(r.stop_reason.value_or("-"));
   row.push_back(r.energy_ratio ? fmt(*r.energy_ratio) : "-");
-  row.push_back(r.weak_coarse && r.weak_refined ? fmt(*r.weak_coarse) + " -> " + fmt(*r.weak_refined) : "-");
+  std::string weak = r.weak_coarse && r.weak_refined ? fmt(*r.weak_coarse) + " -> " + fmt(*r.weak_refined) : "-";
+  if (r.weak_reachable) weak += " (reach " + fmt(*r.weak_reachable) + ")";
+  row.push_back(weak);
   for (const char* key : kStages) {
     const std::optional<double> m = median_of(*series(r, key));
     row.push_back(m ? fmt(*m) : "-");

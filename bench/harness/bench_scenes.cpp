@@ -87,7 +87,7 @@ void record_run(const ordered_json& report, SceneBenchResult& r) {
   if (report.contains("iterations") && report["iterations"].is_array()) r.iterations = report["iterations"].size();
   r.stop_reason.reset();
   if (report.contains("stop_reason") && report["stop_reason"].is_string()) r.stop_reason = report["stop_reason"].get<std::string>();
-  r.energy_ratio.reset(), r.weak_coarse.reset(), r.weak_refined.reset();
+  r.energy_ratio.reset(), r.weak_coarse.reset(), r.weak_refined.reset(), r.weak_reachable.reset();
   auto number = [](const ordered_json& j, const char* key) -> std::optional<double> {
     if (j.is_object() && j.contains(key) && j[key].is_number()) return j[key].get<double>();
     return std::nullopt;
@@ -95,7 +95,11 @@ void record_run(const ordered_json& report, SceneBenchResult& r) {
   if (report.contains("quality") && report["quality"].is_object()) {
     const ordered_json& q = report["quality"];
     r.energy_ratio = number(q, "energy_ratio");
-    if (q.contains("weak_fraction")) r.weak_coarse = number(q["weak_fraction"], "coarse"), r.weak_refined = number(q["weak_fraction"], "refined");
+    if (q.contains("weak_fraction")) {
+      const ordered_json& w = q["weak_fraction"];
+      r.weak_coarse = number(w, "coarse"), r.weak_refined = number(w, "refined");
+      if (w.is_object() && w.contains("reachable")) r.weak_reachable = number(w["reachable"], "fraction");
+    }
   }
 }
 

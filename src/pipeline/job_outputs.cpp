@@ -69,7 +69,11 @@ void JobReport::refined(const FractureSurface& coarse, const FractureSurface& re
 void JobReport::quality(const SurfaceQuality& q) {
   j_["quality"] = {{"energy_ratio", q.energy_ratio},
                    {"energy", {{"coarse", q.coarse_energy}, {"refined", q.refined_energy}}},
-                   {"weak_fraction", {{"coarse", q.weak_coarse}, {"refined", q.weak_refined}, {"threshold", q.weak_threshold}}},
+                   {"weak_fraction", {{"coarse", q.weak_coarse}, {"refined", q.weak_refined}, {"threshold", q.weak_threshold},
+                                      {"reachable", {{"radius", q.displacement_p95}, {"fraction", q.weak_reachable},
+                                                     {"half_radius", std::isfinite(q.weak_half_radius)
+                                                                         ? nlohmann::ordered_json(q.weak_half_radius)
+                                                                         : nlohmann::ordered_json(nullptr)}}}}},
                    {"displacement", {{"mean", q.displacement_mean}, {"p95", q.displacement_p95}, {"max", q.displacement_max}}}};
 }
 

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
 
 #include "geom/bvh.hpp"
 #include "util/parallel.hpp"
@@ -15,27 +18,32 @@ struct AreaSums {
   double area = 0.0, energy = 0.0, weak = 0.0;
 };
 
-// Face f cut into n² triangles (n per side), each sampled at its centroid.
-AreaSums face_sums(const FractureSurface& s, std::uint32_t f, const FieldGrid4& field, const Grid3& zeta,
-                   double threshold) {
+// Face f cut into n² triangles (n per side, n = ⌈longest edge / cell⌉), fn(point, area) at
+// each one's centroid.
+template <class Fn>
+void for_each_sample(const FractureSurface& s, std::uint32_t f, double cell, Fn fn) {
   const glm::uvec4 t = s.faces[f];
   const glm::dvec3 a = at(s, t.x), b = at(s, t.y), c = at(s, t.z);
   const double longest = std::max({glm::distance(a, b), glm::distance(b, c), glm::distance(c, a)});
-  const int n = std::clamp(int(std::ceil(longest / zeta.cell)), 1, 256);
+  const int n = std::clamp(int(std::ceil(longest / cell)), 1, 256);
   const double sub = 0.5 * glm::length(glm::cross(b - a, c - a)) / double(n * n);
   const glm::dvec3 u = (b - a) / double(n), v = (c - a) / double(n);
-  AreaSums out;
-  auto sample = [&](const glm::dvec3& p) {
-    out.area += sub;
-    out.energy += sub * double(sample_field(field, glm::vec3(p)).x);
-    if (sample_trilinear(zeta, p) < threshold) out.weak += sub;
-  };
   for (int i = 0; i < n; ++i)
     for (int j = 0; i + j < n; ++j) {
       const glm::dvec3 o = a + double(i) * u + double(j) * v;
-      sample(o + (u + v) / 3.0);                                 // the upright sub-triangle
-      if (i + j + 1 < n) sample(o + (2.0 * u + 2.0 * v) / 3.0);  // the inverted one beside it
+      fn(o + (u + v) / 3.0, sub);                                 // the upright sub-triangle
+      if (i + j + 1 < n) fn(o + (2.0 * u + 2.0 * v) / 3.0, sub);  // the inverted one beside it
     }
+}
+
+AreaSums face_sums(const FractureSurface& s, std::uint32_t f, const FieldGrid4& field, const Grid3& zeta,
+                   double threshold) {
+  AreaSums out;
+  for_each_sample(s, f, zeta.cell, [&](const glm::dvec3& p, double sub) {
+    out.area += sub;
+    out.energy += sub * double(sample_field(field, glm::vec3(p)).x);
+    if (sample_trilinear(zeta, p) < threshold) out.weak += sub;
+  });
   return out;
 }
 
@@ -94,7 +102,50 @@ void displacement(const FractureSurface& coarse, const FractureSurface& refined,
   }
 }
 
+// Face f's samples as (distance to weak material along the normal, area); +inf where none is
+// within `limit`.
+void face_reach(const FractureSurface& s, std::uint32_t f, const Grid3& zeta, double threshold, double limit,
+                std::vector<std::pair<double, double>>& out) {
+  const glm::uvec4 t = s.faces[f];
+  const glm::dvec3 cross = glm::cross(at(s, t.y) - at(s, t.x), at(s, t.z) - at(s, t.x));
+  const double length = glm::length(cross);
+  if (!(length > 0.0)) return;
+  const glm::dvec3 normal = cross / length;
+  const double step = 0.5 * zeta.cell;
+  const int steps = int(std::floor(limit / step));
+  for_each_sample(s, f, zeta.cell, [&](const glm::dvec3& p, double sub) {
+    double d = std::numeric_limits<double>::infinity();
+    for (int k = 0; k <= steps && !std::isfinite(d); ++k)
+      if (sample_trilinear(zeta, p + double(k) * step * normal) < threshold ||
+          sample_trilinear(zeta, p - double(k) * step * normal) < threshold)
+        d = double(k) * step;
+    out.emplace_back(d, sub);
+  });
+}
+
 }  // namespace
+
+WeakReach weak_reach(const FractureSurface& s, const Grid3& zeta, double threshold, double radius, double diagonal,
+                     double max_radius) {
+  const std::size_t chunks = chunk_count(s.faces.size(), 256);
+  std::vector<std::vector<std::pair<double, double>>> part(chunks);
+  parallel_chunks(s.faces.size(), chunks, default_threads(), [&](std::size_t c, std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f) face_reach(s, std::uint32_t(f), zeta, threshold, max_radius * diagonal, part[c]);
+  });
+  std::vector<std::pair<double, double>> all;
+  for (const auto& p : part) all.insert(all.end(), p.begin(), p.end());
+  std::sort(all.begin(), all.end());
+  double total = 0.0, within = 0.0;
+  for (const auto& [d, w] : all) total += w, within += d <= radius * diagonal ? w : 0.0;
+  WeakReach out{total > 0.0 ? within / total : 0.0, std::numeric_limits<double>::infinity()};
+  double acc = 0.0;
+  for (const auto& [d, w] : all)
+    if ((acc += w) >= 0.5 * total) {
+      out.half_radius = d / diagonal;
+      break;
+    }
+  return out;
+}
 
 SurfaceQuality measure_quality(const FractureSurface& coarse, const FractureSurface& refined, const FieldGrid4& field,
                                const Grid3& zeta, const ExteriorSurface& exterior) {
@@ -107,6 +158,8 @@ SurfaceQuality measure_quality(const FractureSurface& coarse, const FractureSurf
   q.weak_coarse = c.area > 0.0 ? c.weak / c.area : 0.0;
   q.weak_refined = r.area > 0.0 ? r.weak / r.area : 0.0;
   displacement(coarse, refined, exterior.diagonal(), q);
+  const WeakReach reach = weak_reach(coarse, zeta, q.weak_threshold, q.displacement_p95, exterior.diagonal());
+  q.weak_reachable = reach.fraction, q.weak_half_radius = reach.half_radius;
   return q;
 }
 

@@ -1,0 +1,73 @@
+// pipeline/quality: how much weak material a surface has within reach.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "pipeline/quality.hpp"
+
+namespace fracref {
+namespace {
+
+// A square sheet in the plane z = 0 over [-0.5, 0.5]², split n × n.
+FractureSurface square(int n) {
+  std::vector<glm::vec4> positions;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) positions.emplace_back(-0.5f + float(i) / float(n), -0.5f + float(j) / float(n), 0.0f, 1.0f);
+  std::vector<glm::uvec4> faces;
+  const std::uint32_t row = std::uint32_t(n) + 1;
+  for (std::uint32_t j = 0; j < std::uint32_t(n); ++j)
+    for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) {
+      const std::uint32_t a = j * row + i;
+      faces.emplace_back(a, a + 1, a + row + 1, 0);
+      faces.emplace_back(a, a + row + 1, a + row, 0);
+    }
+  return make_fracture_surface(positions, faces, std::vector<glm::ivec2>(faces.size(), glm::ivec2(1, 0)), 2);
+}
+
+// ζ on [-1, 1]³ at a 0.05 cell: 1, and 0 at the nodes where weak(node) holds.
+Grid3 field(const std::function<bool(const glm::dvec3&)>& weak) {
+  Grid3 g;
+  g.dims = glm::uvec3(41);
+  g.origin = glm::dvec3(-1.0);
+  g.cell = 0.05;
+  g.values.assign(g.size(), 1.0f);
+  for (unsigned z = 0; z < 41; ++z)
+    for (unsigned y = 0; y < 41; ++y)
+      for (unsigned x = 0; x < 41; ++x)
+        if (weak(g.node_position(x, y, z))) g.values[g.index(x, y, z)] = 0.0f;
+  return g;
+}
+
+bool in_slab(const glm::dvec3& p) { return p.z > 0.14 && p.z < 0.26; }
+
+// A weak slab parallel to the sheet, its nodes from z = 0.15 to 0.25: ζ < 0.5 past z = 0.125 (half
+// a cell before the first weak node), reached at the first half-cell step past it, 0.15.
+TEST(WeakReach, AWeakSlabIsInReachOnlyFromItsDistanceOn) {
+  const FractureSurface s = square(4);
+  const Grid3 zeta = field(in_slab);
+  EXPECT_EQ(weak_reach(s, zeta, 0.5, 0.1, 1.0).fraction, 0.0);
+  EXPECT_EQ(weak_reach(s, zeta, 0.5, 0.2, 1.0).fraction, 1.0);
+  EXPECT_NEAR(weak_reach(s, zeta, 0.5, 0.0, 1.0).half_radius, 0.15, 1e-12);
+  // Lengths are fractions of the diagonal: at a diagonal of 2, the slab is 0.075 away.
+  EXPECT_NEAR(weak_reach(s, zeta, 0.5, 0.0, 2.0).half_radius, 0.075, 1e-12);
+  EXPECT_EQ(weak_reach(s, zeta, 0.5, 0.08, 2.0).fraction, 1.0);
+}
+
+TEST(WeakReach, OnlyTheAreaOverTheWeakPartCountsAndTheSearchHasAnEnd) {
+  const FractureSurface s = square(8);
+  const WeakReach half = weak_reach(s, field([](const glm::dvec3& p) { return in_slab(p) && p.x > 0.01; }), 0.5, 0.2, 1.0);
+  EXPECT_GT(half.fraction, 0.4);
+  EXPECT_LT(half.fraction, 0.6);
+  // Beyond the search (here 0.1 of the diagonal) nothing is in reach, and no radius gives half.
+  const WeakReach none = weak_reach(s, field(in_slab), 0.5, 1.0, 1.0, 0.1);
+  EXPECT_EQ(none.fraction, 0.0);
+  EXPECT_TRUE(std::isinf(none.half_radius));
+  // Weak material on the sheet itself is at distance 0, either side of it.
+  EXPECT_EQ(weak_reach(s, field([](const glm::dvec3& p) { return std::abs(p.z) < 0.01; }), 0.5, 0.0, 1.0).fraction, 1.0);
+  const WeakReach below = weak_reach(s, field([](const glm::dvec3& p) { return p.z < -0.14 && p.z > -0.26; }), 0.5, 0.2, 1.0);
+  EXPECT_EQ(below.fraction, 1.0);
+}
+
+}  // namespace
+}  // namespace fracref
