@@ -5,25 +5,13 @@
 #include <functional>
 
 #include "pipeline/quality.hpp"
+#include "refine_test_support.hpp"
 
 namespace fracref {
 namespace {
 
-// A square sheet in the plane z = 0 over [-0.5, 0.5]², split n × n.
-FractureSurface square(int n) {
-  std::vector<glm::vec4> positions;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) positions.emplace_back(-0.5f + float(i) / float(n), -0.5f + float(j) / float(n), 0.0f, 1.0f);
-  std::vector<glm::uvec4> faces;
-  const std::uint32_t row = std::uint32_t(n) + 1;
-  for (std::uint32_t j = 0; j < std::uint32_t(n); ++j)
-    for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) {
-      const std::uint32_t a = j * row + i;
-      faces.emplace_back(a, a + 1, a + row + 1, 0);
-      faces.emplace_back(a, a + row + 1, a + row, 0);
-    }
-  return make_fracture_surface(positions, faces, std::vector<glm::ivec2>(faces.size(), glm::ivec2(1, 0)), 2);
-}
+// A square sheet in the plane z = 0.5 over [0, 1]², split n × n.
+FractureSurface square(int n) { return test::sheet(n, 0.5f); }
 
 // ζ on [-1, 1]³ at a 0.05 cell: 1, and 0 at the nodes where weak(node) holds.
 Grid3 field(const std::function<bool(const glm::dvec3&)>& weak) {
@@ -39,10 +27,10 @@ Grid3 field(const std::function<bool(const glm::dvec3&)>& weak) {
   return g;
 }
 
-bool in_slab(const glm::dvec3& p) { return p.z > 0.14 && p.z < 0.26; }
+bool in_slab(const glm::dvec3& p) { return p.z > 0.64 && p.z < 0.76; }
 
-// A weak slab parallel to the sheet, its nodes from z = 0.15 to 0.25: ζ < 0.5 past z = 0.125 (half
-// a cell before the first weak node), reached at the first half-cell step past it, 0.15.
+// A weak slab parallel to the sheet, its nodes from z = 0.65 to 0.75: ζ < 0.5 past z = 0.625 (half
+// a cell before the first weak node), 0.125 from the sheet, reached at the first half-cell step past it, 0.15.
 TEST(WeakReach, AWeakSlabIsInReachOnlyFromItsDistanceOn) {
   const FractureSurface s = square(4);
   const Grid3 zeta = field(in_slab);
@@ -56,7 +44,7 @@ TEST(WeakReach, AWeakSlabIsInReachOnlyFromItsDistanceOn) {
 
 TEST(WeakReach, OnlyTheAreaOverTheWeakPartCountsAndTheSearchHasAnEnd) {
   const FractureSurface s = square(8);
-  const WeakReach half = weak_reach(s, field([](const glm::dvec3& p) { return in_slab(p) && p.x > 0.01; }), 0.5, 0.2, 1.0);
+  const WeakReach half = weak_reach(s, field([](const glm::dvec3& p) { return in_slab(p) && p.x > 0.51; }), 0.5, 0.2, 1.0);
   EXPECT_GT(half.fraction, 0.4);
   EXPECT_LT(half.fraction, 0.6);
   // Beyond the search (here 0.1 of the diagonal) nothing is in reach, and no radius gives half.
@@ -64,8 +52,8 @@ TEST(WeakReach, OnlyTheAreaOverTheWeakPartCountsAndTheSearchHasAnEnd) {
   EXPECT_EQ(none.fraction, 0.0);
   EXPECT_TRUE(std::isinf(none.half_radius));
   // Weak material on the sheet itself is at distance 0, either side of it.
-  EXPECT_EQ(weak_reach(s, field([](const glm::dvec3& p) { return std::abs(p.z) < 0.01; }), 0.5, 0.0, 1.0).fraction, 1.0);
-  const WeakReach below = weak_reach(s, field([](const glm::dvec3& p) { return p.z < -0.14 && p.z > -0.26; }), 0.5, 0.2, 1.0);
+  EXPECT_EQ(weak_reach(s, field([](const glm::dvec3& p) { return std::abs(p.z - 0.5) < 0.01; }), 0.5, 0.0, 1.0).fraction, 1.0);
+  const WeakReach below = weak_reach(s, field([](const glm::dvec3& p) { return p.z < 0.36 && p.z > 0.24; }), 0.5, 0.2, 1.0);
   EXPECT_EQ(below.fraction, 1.0);
 }
 

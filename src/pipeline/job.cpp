@@ -21,6 +21,7 @@
 #include "pipeline/job_outputs.hpp"
 #include "pipeline/surface_preview.hpp"
 #include "pipeline/material.hpp"
+#include "pipeline/section_preview.hpp"
 #include "animate/animate.hpp"
 #include "animate/gltf_writer.hpp"
 #include "animate/piece_surface.hpp"
@@ -245,9 +246,14 @@ nlohmann::ordered_json run_job(const Scene& scene, const fs::path& out, ComputeB
   report.seconds("refine", seconds_since(t_refine));
   report.kernels(backend.seconds());
   report.refined(model.surface, s, refined, field.zeta, b.diagonal());
-  report.quality(measure_quality(model.surface, s, field.sampled, field.zeta, b));
+  const SurfaceQuality quality = measure_quality(model.surface, s, field.sampled, field.zeta, b);
+  report.quality(quality);
   write_surface_ply(out / "fracture_surface.ply", s, &refined.tree, &field.zeta);
-  if (scene.output.preview) write_png(out / "preview_surface.png", preview_strength_surface(s, field.zeta));
+  if (scene.output.preview) {
+    write_png(out / "preview_surface.png", preview_strength_surface(s, field.zeta));
+    write_png(out / "preview_section.png",
+              preview_section(field.zeta, quality.weak_threshold, exterior_mesh, model.surface, s));
+  }
   write_mesh(out / "exterior.ply", exterior_mesh);
   if (o.stop_after == Stage::refine)
     return report.finish(out, seconds_since(t0), [&] { return preview_surface(s, exterior_mesh); });
