@@ -170,6 +170,8 @@ TEST(CliRefine, AnyThreadCountGivesTheSameBytes) {
     ++compared;
   }
   EXPECT_GT(compared, 5u);
+  for (const char* picture : {"preview_surface.png", "preview_section.png"})
+    EXPECT_TRUE(fs::exists(t.path / "1" / picture)) << picture;  // compared above like every file
   EXPECT_NE(slurp(t.path / "4" / "report.json").find("\"threads\": 4"), std::string::npos);
   EXPECT_EQ(run("refine " + s.string() + " -o " + (t.path / "0").string() + " --threads 0").code, 2);
 }
