@@ -1,5 +1,6 @@
 #include "refine/rim_smoothing.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -114,6 +115,88 @@ void hold_bad_faces(FractureSurface& s, const ExteriorSurface& b, const std::vec
   for (const std::uint32_t v : hold) x1[v] = x0[v];
 }
 
+// The distance between segments pq and uv: their closest points, each clamped to its segment.
+double segment_gap(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& u, const glm::dvec3& v) {
+  const glm::dvec3 d1 = q - p, d2 = v - u, r = p - u;
+  const double a = glm::dot(d1, d1), e = glm::dot(d2, d2), f = glm::dot(d2, r), c = glm::dot(d1, r), b = glm::dot(d1, d2);
+  const double denom = a * e - b * b;
+  double s = denom > 1e-300 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+  double t = e > 0.0 ? (b * s + f) / e : 0.0;
+  if (t < 0.0) t = 0.0, s = a > 0.0 ? std::clamp(-c / a, 0.0, 1.0) : 0.0;
+  else if (t > 1.0) t = 1.0, s = a > 0.0 ? std::clamp((b - c) / a, 0.0, 1.0) : 0.0;
+  return glm::distance(p + s * d1, u + t * d2);
+}
+
+double angle_at(const glm::dvec3& v, const glm::dvec3& a, const glm::dvec3& b) {
+  const glm::dvec3 x = a - v, y = b - v;
+  const double len = glm::length(x) * glm::length(y);
+  return len > 0.0 ? std::acos(std::clamp(glm::dot(x, y) / len, -1.0, 1.0)) : 0.0;
+}
+
+struct RimEdge {
+  std::uint32_t a = 0, b = 0;
+  double lo_x = 0.0, hi_x = 0.0;
+};
+
+// Two rim edges that share no vertex and come within a quarter of the shorter one's length where
+// they were farther apart: the moved ends of both.
+void hold_rims_coming_together(const FractureSurface& s, const std::vector<glm::vec4>& x0, const std::vector<glm::vec4>& x1,
+                               std::vector<std::uint32_t>& hold) {
+  std::vector<RimEdge> rim;
+  for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
+    if (s.edge_special[e] != kEdgeBoundary) continue;
+    const glm::dvec3 p = point(x1, s.edges[e].x), q = point(x1, s.edges[e].y);
+    const double pad = 0.25 * glm::distance(p, q);
+    rim.push_back({s.edges[e].x, s.edges[e].y, std::min(p.x, q.x) - pad, std::max(p.x, q.x) + pad});
+  }
+  std::sort(rim.begin(), rim.end(), [](const RimEdge& u, const RimEdge& v) { return u.lo_x < v.lo_x; });
+  const auto moved = [&](std::uint32_t v) { return x1[v] != x0[v]; };
+  for (std::size_t i = 0; i < rim.size(); ++i)
+    for (std::size_t j = i + 1; j < rim.size() && rim[j].lo_x <= rim[i].hi_x; ++j) {
+      const RimEdge& e = rim[i];
+      const RimEdge& f = rim[j];
+      if (e.a == f.a || e.a == f.b || e.b == f.a || e.b == f.b) continue;
+      if (!moved(e.a) && !moved(e.b) && !moved(f.a) && !moved(f.b)) continue;
+      const double limit = 0.25 * std::min(glm::distance(point(x1, e.a), point(x1, e.b)), glm::distance(point(x1, f.a), point(x1, f.b)));
+      const double gap1 = segment_gap(point(x1, e.a), point(x1, e.b), point(x1, f.a), point(x1, f.b));
+      if (gap1 >= limit || gap1 >= segment_gap(point(x0, e.a), point(x0, e.b), point(x0, f.a), point(x0, f.b))) continue;
+      for (const std::uint32_t v : {e.a, e.b, f.a, f.b})
+        if (moved(v)) hold.push_back(v);
+    }
+}
+
+// At a junction's end on B (three or more rim edges), two of its rim edges turned closer than
+// kMinRimDegrees where they were wider: the end and the two far ends.
+void hold_rims_closing_at_junctions(const std::vector<std::vector<std::uint32_t>>& nb, const std::vector<glm::vec4>& x0,
+                                    const std::vector<glm::vec4>& x1, std::vector<std::uint32_t>& hold) {
+  constexpr double kMinRimDegrees = 10.0;
+  const double limit = glm::radians(kMinRimDegrees);
+  for (std::uint32_t v = 0; v < nb.size(); ++v) {
+    if (nb[v].size() < 3) continue;
+    for (std::size_t i = 0; i < nb[v].size(); ++i)
+      for (std::size_t k = i + 1; k < nb[v].size(); ++k) {
+        const std::uint32_t a = nb[v][i], b = nb[v][k];
+        if (x1[v] == x0[v] && x1[a] == x0[a] && x1[b] == x0[b]) continue;
+        const double now = angle_at(point(x1, v), point(x1, a), point(x1, b));
+        if (now >= limit || now >= angle_at(point(x0, v), point(x0, a), point(x0, b))) continue;
+        for (const std::uint32_t w : {v, a, b})
+          if (x1[w] != x0[w]) hold.push_back(w);
+      }
+  }
+}
+
+// Holds back moves that bring two sheets' rims together on B (above). The pieces stage cuts B
+// along every rim: where two rims meet, the piece between them keeps no part of B (a thin
+// piece's outline, as Cell Fracture's slivers make). Returns the vertices held.
+std::size_t hold_rim_contacts(const FractureSurface& s, const std::vector<std::vector<std::uint32_t>>& nb,
+                              const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) {
+  std::vector<std::uint32_t> hold;
+  hold_rims_coming_together(s, x0, x1, hold);
+  hold_rims_closing_at_junctions(nb, x0, x1, hold);
+  for (const std::uint32_t v : hold) x1[v] = x0[v];
+  return hold.size();
+}
+
 }  // namespace
 
 std::size_t smooth_rim(FractureSurface& s, const ExteriorSurface& b, const RimSmoothingOptions& o) {
@@ -132,6 +215,7 @@ std::size_t smooth_rim(FractureSurface& s, const ExteriorSurface& b, const RimSm
       apply_collision_constraints(s, b, x0, x1);
       hold_folding_motion(s, x0, x1);   // the sheets' order around a junction edge, faces turned over
       hold_star_crossings(s, x0, x1);   // faces that share only a vertex (the collisions skip them)
+      hold_rim_contacts(s, nb, x0, x1);  // two sheets' rims closing in on each other on B
     }
     s.positions = x1;
     std::size_t moved = 0;

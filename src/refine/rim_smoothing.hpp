@@ -30,8 +30,10 @@ struct RimSmoothingOptions {
 /// away from its corners on B where it did not (face_meets_exterior); where an edge between two
 /// faces would bend past max_crease_degrees and further than it was; or where the motion would
 /// collide with S (apply_collision_constraints), fold a face or reorder the sheets around a
-/// junction edge (hold_folding_motion), or make two faces that share a vertex cross
-/// (hold_star_crossings). Held vertices are checked again until every check passes.
+/// junction edge (hold_folding_motion), make two faces that share a vertex cross
+/// (hold_star_crossings), or bring two sheets' rims together on B (two rim edges that share no
+/// vertex within a quarter of the shorter one, or two rim edges at a junction's end within 10°,
+/// where they were farther apart). Held vertices are checked again until every check passes.
 /// Connectivity does not change.
 /// \pre s valid, its adjacency current, its boundary vertices on B, S free of self-intersections.
 /// \return the number of vertex moves made, over all passes.
