@@ -20,12 +20,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_mesh_support.hpp"
 #include "cli_support.hpp"
 #include "io/mesh_io.hpp"
 
 using cli_test::run;
 using cli_test::slurp;
 using cli_test::TempDir;
+using cli_test::creases;
 namespace fs = std::filesystem;
 
 namespace {
@@ -37,29 +39,6 @@ std::string scene(const std::string& extra) {
   return R"({"exterior": "cube.obj", "fracture": {"kind": "tets", "mesh": "cube.mesh"},
              "field": {"type": "marble", "resolution": [16, 16, 16]},
              "refine": {"max_iterations": 4, "max_triangles": 2000})" + extra + "}";
-}
-
-// The edges between two faces of the surface in `ply` that bend past 120 degrees: folds and
-// creases, which the flow's smoothing does not make on its own.
-std::size_t creases(const fs::path& ply) {
-  const fracref::MeshSoup m = fracref::read_ply(ply);
-  std::vector<glm::dvec3> normal;
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::pair<std::size_t, bool>>> edges;
-  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
-    const auto& t = m.triangles[f];
-    normal.push_back(glm::normalize(glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]])));
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
-      edges[{std::min(a, b), std::max(a, b)}].push_back({f, a < b});
-    }
-  }
-  std::size_t n = 0;
-  for (const auto& [e, faces] : edges) {
-    if (faces.size() != 2) continue;  // on the rim or a junction
-    const double sign = faces[0].second != faces[1].second ? 1.0 : -1.0;  // as oriented alike
-    n += sign * glm::dot(normal[faces[0].first], normal[faces[1].first]) < std::cos(120.0 * M_PI / 180.0);
-  }
-  return n;
 }
 
 // The shortest edge of the surface in `ply`, as a fraction of its bounding box's diagonal.

@@ -80,4 +80,32 @@ std::size_t merge_islands(std::size_t tets, const InteriorFaces& faces, std::vec
   return moved;
 }
 
+// Labels are read before the round and written after it, so the order of the tets does not
+// matter.
+std::size_t relabel_notches(std::size_t tets, const InteriorFaces& faces, std::vector<int>& label) {
+  std::vector<std::array<int, 4>> around(tets);
+  std::vector<std::uint8_t> count(tets, 0);
+  for (const glm::uvec2& f : faces.tets) {
+    if (count[f.x] < 4) around[f.x][count[f.x]++] = label[f.y];
+    if (count[f.y] < 4) around[f.y][count[f.y]++] = label[f.x];
+  }
+  std::vector<int> next = label;
+  std::size_t moved = 0;
+  for (std::size_t t = 0; t < tets; ++t) {
+    if (count[t] < 4) continue;  // on the hull
+    for (int k = 0; k < 2; ++k) {
+      const int other = around[t][std::size_t(k)];
+      if (other == label[t]) continue;
+      int same = 0;
+      for (const int l : around[t]) same += l == other;
+      if (same >= 3) {
+        next[t] = other, ++moved;
+        break;
+      }
+    }
+  }
+  label = std::move(next);
+  return moved;
+}
+
 }  // namespace fracref::coarse_detail

@@ -15,6 +15,13 @@ namespace fracref::coarse_detail {
 /// \pre label.size() == tets; faces = interior_faces() of the mesh.
 std::size_t merge_islands(std::size_t tets, const InteriorFaces& faces, std::vector<int>& label, double fraction);
 
+/// Gives each tet off the hull whose four neighbours across its faces include three or four of
+/// one other label that label: a lattice tet sticking into a neighbour's side, or a notch of one
+/// missing from it, whose faces would make S a zig-zag of creases where the pieces' common face is
+/// flat (Blender's Cell Fracture cuts the lattice at every angle). One round, from the labels
+/// before it. Returns the tets moved. \pre label.size() == tets; faces = interior_faces().
+std::size_t relabel_notches(std::size_t tets, const InteriorFaces& faces, std::vector<int>& label);
+
 /// clean_label_fans() (cut_labels.hpp) on labels that are piece numbers: relabels the wedges of
 /// tets S could not represent at an edge (three pieces at an edge of the hull, a piece touching
 /// itself along an edge). Returns the tets moved. \pre labels >= 0, label.size() == set.tets.size().

@@ -227,10 +227,11 @@ Lattice label_lattice(const MeshSoup& exterior, const std::string& exterior_file
   // Cleaning fans may leave strays and merging strays may leave bad fans: in turn while either
   // moves a tet (4 rounds at most), fans last.
   for (int round = 0; round < 4; ++round) {
+    const std::size_t notched = relabel_notches(l.set.tets.size(), l.faces, l.label);
     const std::size_t merged = merge_islands(l.set.tets.size(), l.faces, l.label, o.island_fraction);
     const std::size_t cleaned = clean_fans(l.set, l.label);
-    l.relabelled += merged + cleaned;
-    if (merged + cleaned == 0) break;
+    l.relabelled += notched + merged + cleaned;
+    if (notched + merged + cleaned == 0) break;
   }
   std::vector<bool> seen(volume.size(), false);
   for (int x : l.label) seen[x] = true;
