@@ -18,14 +18,14 @@ struct AreaSums {
   double area = 0.0, energy = 0.0, weak = 0.0;
 };
 
-// Face f cut into n² triangles (n per side, n = ⌈longest edge / cell⌉), fn(point, area) at
-// each one's centroid.
+// Face f cut into n² triangles (n per side, n = ⌈longest edge / cell⌉, at most `most`), fn(point,
+// area) at each one's centroid.
 template <class Fn>
-void for_each_sample(const FractureSurface& s, std::uint32_t f, double cell, Fn fn) {
+void for_each_sample(const FractureSurface& s, std::uint32_t f, double cell, Fn fn, int most = 256) {
   const glm::uvec4 t = s.faces[f];
   const glm::dvec3 a = at(s, t.x), b = at(s, t.y), c = at(s, t.z);
   const double longest = std::max({glm::distance(a, b), glm::distance(b, c), glm::distance(c, a)});
-  const int n = std::clamp(int(std::ceil(longest / cell)), 1, 256);
+  const int n = std::clamp(int(std::ceil(longest / cell)), 1, most);
   const double sub = 0.5 * glm::length(glm::cross(b - a, c - a)) / double(n * n);
   const glm::dvec3 u = (b - a) / double(n), v = (c - a) / double(n);
   for (int i = 0; i < n; ++i)
@@ -111,7 +111,9 @@ void face_reach(const FractureSurface& s, std::uint32_t f, const Grid3& zeta, do
   const double length = glm::length(cross);
   if (!(length > 0.0)) return;
   const glm::dvec3 normal = cross / length;
-  const double step = 0.5 * zeta.cell;
+  // Half a cell, but no more than 128 steps either way and 16² samples a face: on a fine grid
+  // the search costs samples × steps lookups.
+  const double step = std::max(0.5 * zeta.cell, limit / 128.0);
   const int steps = int(std::floor(limit / step));
   for_each_sample(s, f, zeta.cell, [&](const glm::dvec3& p, double sub) {
     double d = std::numeric_limits<double>::infinity();
@@ -120,7 +122,7 @@ void face_reach(const FractureSurface& s, std::uint32_t f, const Grid3& zeta, do
           sample_trilinear(zeta, p - double(k) * step * normal) < threshold)
         d = double(k) * step;
     out.emplace_back(d, sub);
-  });
+  }, 16);
 }
 
 }  // namespace

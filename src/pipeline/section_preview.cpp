@@ -12,15 +12,18 @@ namespace {
 
 using Segment = std::array<glm::dvec3, 2>;
 
-std::vector<Segment> surface_segments(const FractureSurface& s, const SectionPlane& plane) {
+// S's positions in double and its faces as triangles, for section_segments.
+struct Soup {
   std::vector<glm::dvec3> positions;
-  positions.reserve(s.positions.size());
-  for (const glm::vec4& p : s.positions) positions.emplace_back(glm::vec3(p));
   std::vector<std::array<std::uint32_t, 3>> triangles;
-  triangles.reserve(s.faces.size());
-  for (const glm::uvec4& f : s.faces) triangles.push_back({f.x, f.y, f.z});
-  return section_segments(positions, triangles, plane);
-}
+  explicit Soup(const FractureSurface& s) {
+    positions.reserve(s.positions.size());
+    for (const glm::vec4& p : s.positions) positions.emplace_back(glm::vec3(p));
+    triangles.reserve(s.faces.size());
+    for (const glm::uvec4& f : s.faces) triangles.push_back({f.x, f.y, f.z});
+  }
+  std::vector<Segment> section(const SectionPlane& plane) const { return section_segments(positions, triangles, plane); }
+};
 
 double total_length(const std::vector<Segment>& segments) {
   double sum = 0.0;
@@ -143,12 +146,13 @@ std::vector<Segment> section_segments(const std::vector<glm::dvec3>& positions,
 
 SectionPlane best_section(const FractureSurface& s, const glm::dvec3& lo, const glm::dvec3& hi) {
   static constexpr double kFractions[] = {0.5, 0.425, 0.575, 0.35, 0.65};  // nearest the middle first
+  const Soup soup(s);
   SectionPlane best{0, 0.5 * (lo.x + hi.x)};
   double longest = -1.0;
   for (int axis = 0; axis < 3; ++axis)
     for (const double f : kFractions) {
       const SectionPlane plane{axis, lo[axis] + f * (hi[axis] - lo[axis])};
-      const double length = total_length(surface_segments(s, plane));
+      const double length = total_length(soup.section(plane));
       if (length > longest) longest = length, best = plane;
     }
   return best;
@@ -164,8 +168,8 @@ Image preview_section(const Grid3& zeta, double weak_threshold, const MeshSoup& 
   const std::vector<Segment> outline = section_segments(exterior.positions, exterior.triangles, plane);
   paint_field(img, f, plane, zeta, weak_threshold, inside_mask(outline, f));
   draw_segments(img, f, outline, glm::vec3(0.35f), 0, false);
-  draw_segments(img, f, surface_segments(coarse, plane), glm::vec3(0.0f), 1, true);
-  draw_segments(img, f, surface_segments(refined, plane), glm::vec3(0.15f, 0.95f, 0.25f), 1, false);
+  draw_segments(img, f, Soup(coarse).section(plane), glm::vec3(0.0f), 1, true);
+  draw_segments(img, f, Soup(refined).section(plane), glm::vec3(0.15f, 0.95f, 0.25f), 1, false);
   return img;
 }
 
