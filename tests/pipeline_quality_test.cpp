@@ -15,16 +15,7 @@ FractureSurface square(int n) { return test::sheet(n, 0.5f); }
 
 // ζ on [-1, 1]³ at a 0.05 cell: 1, and 0 at the nodes where weak(node) holds.
 Grid3 field(const std::function<bool(const glm::dvec3&)>& weak) {
-  Grid3 g;
-  g.dims = glm::uvec3(41);
-  g.origin = glm::dvec3(-1.0);
-  g.cell = 0.05;
-  g.values.assign(g.size(), 1.0f);
-  for (unsigned z = 0; z < 41; ++z)
-    for (unsigned y = 0; y < 41; ++y)
-      for (unsigned x = 0; x < 41; ++x)
-        if (weak(g.node_position(x, y, z))) g.values[g.index(x, y, z)] = 0.0f;
-  return g;
+  return test::grid_of(glm::dvec3(-1.0), 0.05, 41, [&](const glm::dvec3& p) { return weak(p) ? 0.0 : 1.0; });
 }
 
 bool in_slab(const glm::dvec3& p) { return p.z > 0.64 && p.z < 0.76; }

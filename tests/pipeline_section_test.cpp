@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "pipeline/section_preview.hpp"
+#include "pipeline/surface_preview.hpp"
 #include "refine_test_support.hpp"
 
 namespace fracref {
@@ -11,18 +12,14 @@ FractureSurface sheet_at(float z) { return test::sheet(4, z); }
 
 // ζ = 1 on [-0.1, 1.1]³ but for a weak slab (0) whose nodes lie at z = 0.6 and 0.65.
 Grid3 slab_field() {
-  Grid3 g;
-  g.dims = glm::uvec3(25);
-  g.origin = glm::dvec3(-0.1);
-  g.cell = 0.05;
-  g.values.assign(g.size(), 1.0f);
-  for (unsigned z = 0; z < 25; ++z)
-    for (unsigned y = 0; y < 25; ++y)
-      for (unsigned x = 0; x < 25; ++x) {
-        const double pz = g.node_position(x, y, z).z;
-        if (pz > 0.59 && pz < 0.66) g.values[g.index(x, y, z)] = 0.0f;
-      }
-  return g;
+  return test::grid_of(glm::dvec3(-0.1), 0.05, 25, [](const glm::dvec3& p) { return p.z > 0.59 && p.z < 0.66 ? 0.0 : 1.0; });
+}
+
+// A linear colour as the previews write it (sRGB, 8 bits).
+glm::ivec3 encoded(const glm::vec3& c) {
+  Image one{1, 1, std::vector<std::uint8_t>(3)};
+  set_pixel(one, 0, 0, c);
+  return {one.rgb[0], one.rgb[1], one.rgb[2]};
 }
 
 glm::ivec3 pixel(const Image& img, int x, int y) {
@@ -56,23 +53,28 @@ TEST(BestSection, CutsAcrossASheetNotAlongIt) {
 // is green; the coarse cut at z = 0.5 is dashed black; ζ = 1 is the ramp's pale yellow, the slab
 // its dark purple, with white where ζ crosses the threshold; outside the cube, the background.
 TEST(PreviewSection, ShowsTheCutsOnTheMaterial) {
-  const Image img = preview_section(slab_field(), 0.5, test::unit_cube(), sheet_at(0.5f), sheet_at(0.62f), 400, 300);
+  const Grid3 zeta = slab_field();
+  const Image img = preview_section(zeta, 0.5, test::unit_cube(), sheet_at(0.5f), sheet_at(0.62f), 400, 300);
   ASSERT_EQ(img.width, 400);
   ASSERT_EQ(img.height, 300);
   const auto row = [](double z) { return int(260.0 - z * 220.0); };
-  EXPECT_EQ(pixel(img, 200, row(0.62)), glm::ivec3(38, 242, 64));  // green
+  EXPECT_EQ(pixel(img, 200, row(0.62)), encoded(glm::vec3(0.15f, 0.95f, 0.25f)));  // green
   int black = 0;
   for (int x = 100; x < 300; ++x) black += pixel(img, x, row(0.5)) == glm::ivec3(0);
   EXPECT_GT(black, 50);   // dashed: about half the row
   EXPECT_LT(black, 150);
   const glm::ivec3 strong = pixel(img, 200, row(0.3)), weak = pixel(img, 150, row(0.64));
   EXPECT_GT(strong.x + strong.y + strong.z, 600);  // pale yellow
-  EXPECT_LT(weak.x + weak.y + weak.z, 250);        // dark purple
+  EXPECT_LT(2 * (weak.x + weak.y + weak.z), strong.x + strong.y + strong.z);  // dark purple
+  // Both exactly the ramp's colours, as preview_surface.png would draw them.
+  const StrengthRamp ramp(zeta);
+  EXPECT_EQ(strong, encoded(ramp.at({0.5, 0.5, 0.3})));
+  EXPECT_EQ(weak, encoded(ramp.at({0.5, 0.5, 0.64})));
   int white = 0;
   for (int y = row(0.75); y < row(0.5); ++y) white += pixel(img, 150, y) == glm::ivec3(255);
   EXPECT_GE(white, 2);  // the slab's two edges
-  EXPECT_EQ(pixel(img, 20, 150), glm::ivec3(237, 240, 245));  // background, outside the cube
-  EXPECT_EQ(pixel(img, 380, 20), glm::ivec3(237, 240, 245));
+  EXPECT_EQ(pixel(img, 20, 150), encoded(RenderOptions{}.background));  // background, outside the cube
+  EXPECT_EQ(pixel(img, 380, 20), encoded(RenderOptions{}.background));
 }
 
 }  // namespace

@@ -46,17 +46,24 @@ FractureSurface sheet_of(int n, Height height) {
   return make_fracture_surface(p, f, pieces, 2);
 }
 
+/// A grid of n nodes a side from `origin`, `cell` apart, each node's value value(its position).
+template <class Value>
+Grid3 grid_of(const glm::dvec3& origin, double cell, unsigned n, Value value) {
+  Grid3 g;
+  g.dims = {n, n, n};
+  g.origin = origin;
+  g.cell = cell;
+  for (unsigned z = 0; z < n; ++z)
+    for (unsigned y = 0; y < n; ++y)
+      for (unsigned x = 0; x < n; ++x) g.values.push_back(float(value(g.node_position(x, y, z))));
+  return g;
+}
+
 /// The field ψ = psi(p) on a grid of n nodes a side over the cube [lo, lo + the box's largest
 /// side] and a margin of 0.05, with a pyramid of `levels`.
 template <class Psi>
 FieldGrid4 field_on_box(const glm::dvec3& lo, const glm::dvec3& hi, unsigned n, int levels, Psi psi) {
-  Grid3 g;
-  g.dims = {n, n, n};
-  g.origin = lo - glm::dvec3(0.05);
-  g.cell = (std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) + 0.1) / double(n - 1);
-  for (unsigned z = 0; z < n; ++z)
-    for (unsigned y = 0; y < n; ++y)
-      for (unsigned x = 0; x < n; ++x) g.values.push_back(float(psi(g.node_position(x, y, z))));
+  const Grid3 g = grid_of(lo - glm::dvec3(0.05), (std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) + 0.1) / double(n - 1), n, psi);
   PyramidOptions po;
   po.levels = levels;
   return precompute_field_gradient(build_pyramid_cpu(g, po));

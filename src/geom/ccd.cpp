@@ -231,13 +231,6 @@ bool solve(Query& q, const CcdOptions& options, CcdStats* stats) {
 
 }  // namespace
 
-namespace {
-
-// A cheap conservative filter before the inclusion solver. Every point of a primitive moves on a
-// convex combination of its corners' straight paths, so it travels at most its fastest corner's
-// displacement; the distance between the two primitives therefore shrinks by at most the sum of
-// both maxima. When the starting distance exceeds that sum (plus the solver's tolerance and a
-// relative margin for the rounding of the distance itself), no contact is possible.
 double segment_distance(const dvec3& p, const dvec3& q, const dvec3& r, const dvec3& s) {
   const dvec3 d1 = q - p, d2 = s - r, w = p - r;
   const double a = glm::dot(d1, d1), e = glm::dot(d2, d2), f = glm::dot(d2, w);
@@ -259,6 +252,14 @@ double segment_distance(const dvec3& p, const dvec3& q, const dvec3& r, const dv
   }
   return glm::length((p + u * d1) - (r + v * d2));
 }
+
+namespace {
+
+// A cheap conservative filter before the inclusion solver (segment_distance). Every point of a
+// primitive moves on a convex combination of its corners' straight paths, so it travels at most
+// its fastest corner's displacement; the distance between the two primitives therefore shrinks by
+// at most the sum of both maxima. When the starting distance exceeds that sum (plus the solver's
+// tolerance and a relative margin for the rounding of the distance itself), no contact is possible.
 
 // The distance a pair must keep at the start to be cleared: both primitives' fastest corners
 // plus the solver's margins (split: the first corner of the second primitive).

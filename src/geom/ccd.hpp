@@ -55,6 +55,10 @@ bool ccd_vertex_triangle(const glm::dvec3& p0, const glm::dvec3& a0, const glm::
                          const glm::dvec3& p1, const glm::dvec3& a1, const glm::dvec3& b1, const glm::dvec3& c1,
                          const CcdOptions& options = {}, CcdStats* stats = nullptr);
 
+/// The distance between the closed segments [p, q] and [r, s] (their closest points; a segment
+/// of length 0 is its point).
+double segment_distance(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& r, const glm::dvec3& s);
+
 /// Whether segment (a, b) and segment (c, d) come within options.min_distance at some t in
 /// [0, 1]. Conservative: never false for a real contact. \pre as ccd_vertex_triangle.
 bool ccd_edge_edge(const glm::dvec3& a0, const glm::dvec3& b0, const glm::dvec3& c0, const glm::dvec3& d0,

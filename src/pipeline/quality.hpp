@@ -29,9 +29,10 @@ struct WeakReach {
 
 /// For each of `s`'s area samples (those of measure_quality, at most 16² a face), the distance
 /// along its face's normal, either way, to the nearest point with ζ < threshold, stepped at half
-/// of ζ's cell (or max_radius × diagonal / 128 when that is longer) up to `max_radius` × diagonal. A surface that stays within `radius` × diagonal of `s`, each point along
-/// `s`'s normal there, can have at most `fraction` of its area in weak material: an upper bound on
-/// what refining `s` that little can reach (points outside B count, as if material were there).
+/// of ζ's cell (or max_radius × diagonal / 128 when that is longer) up to `max_radius` × diagonal.
+/// A surface that stays within `radius` × diagonal of `s`, each point along `s`'s normal there,
+/// can have at most `fraction` of its area in weak material: an upper bound on what refining `s`
+/// that little can reach (points outside B count, as if material were there).
 /// \pre radius and max_radius >= 0 and finite; zeta covers s.
 WeakReach weak_reach(const FractureSurface& s, const Grid3& zeta, double threshold, double radius, double diagonal,
                      double max_radius = 0.25);

@@ -16,9 +16,7 @@ using Segment = std::array<glm::dvec3, 2>;
 struct Soup {
   std::vector<glm::dvec3> positions;
   std::vector<std::array<std::uint32_t, 3>> triangles;
-  explicit Soup(const FractureSurface& s) {
-    positions.reserve(s.positions.size());
-    for (const glm::vec4& p : s.positions) positions.emplace_back(glm::vec3(p));
+  explicit Soup(const FractureSurface& s) : positions(double_positions(s)) {
     triangles.reserve(s.faces.size());
     for (const glm::uvec4& f : s.faces) triangles.push_back({f.x, f.y, f.z});
   }
@@ -74,12 +72,6 @@ std::vector<char> inside_mask(const std::vector<Segment>& outline, const Frame& 
   return inside;
 }
 
-void put(Image& img, int x, int y, const glm::vec3& c) {
-  if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
-  std::uint8_t* p = &img.rgb[3 * (std::size_t(y) * img.width + x)];
-  for (int k = 0; k < 3; ++k) p[k] = std::uint8_t(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
-}
-
 // Each segment stamped with a square of `half` pixels either side; dashed: only where the pixel's
 // 8-pixel checkerboard square is dark, so a line of any direction shows dashes.
 void draw_segments(Image& img, const Frame& f, const std::vector<Segment>& segments, const glm::vec3& colour, int half,
@@ -92,7 +84,7 @@ void draw_segments(Image& img, const Frame& f, const std::vector<Segment>& segme
       const int cx = int(std::floor(p.x)), cy = int(std::floor(p.y));
       if (dashed && ((int(std::floor(p.x / 8.0)) + int(std::floor(p.y / 8.0))) & 1)) continue;
       for (int dy = -half; dy <= half; ++dy)
-        for (int dx = -half; dx <= half; ++dx) put(img, cx + dx, cy + dy, colour);
+        for (int dx = -half; dx <= half; ++dx) set_pixel(img, cx + dx, cy + dy, colour);
     }
   }
 }
@@ -102,7 +94,7 @@ void draw_segments(Image& img, const Frame& f, const std::vector<Segment>& segme
 void paint_field(Image& img, const Frame& f, const SectionPlane& plane, const Grid3& zeta, double threshold,
                  const std::vector<char>& inside) {
   const StrengthRamp ramp(zeta);
-  const glm::vec3 background(0.93f, 0.94f, 0.96f);
+  const glm::vec3 background = RenderOptions{}.background;
   std::vector<char> weak(inside.size(), 0);
   for (int y = 0; y < f.height; ++y)
     for (int x = 0; x < f.width; ++x) {
@@ -111,16 +103,16 @@ void paint_field(Image& img, const Frame& f, const SectionPlane& plane, const Gr
       p[f.u] = uv.x, p[f.v] = uv.y;
       const std::size_t i = std::size_t(y) * f.width + x;
       if (!inside[i]) {
-        put(img, x, y, background);
+        set_pixel(img, x, y, background);
         continue;
       }
       weak[i] = sample_trilinear(zeta, p) < threshold;
-      put(img, x, y, ramp.at(p));
+      set_pixel(img, x, y, ramp.at(p));
     }
   for (int y = 0; y + 1 < f.height; ++y)
     for (int x = 0; x + 1 < f.width; ++x) {
       const std::size_t i = std::size_t(y) * f.width + x;
-      if (inside[i] && (weak[i] != weak[i + 1] || weak[i] != weak[i + f.width])) put(img, x, y, glm::vec3(1.0f));
+      if (inside[i] && (weak[i] != weak[i + 1] || weak[i] != weak[i + f.width])) set_pixel(img, x, y, glm::vec3(1.0f));
     }
 }
 

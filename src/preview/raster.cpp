@@ -141,6 +141,12 @@ Image resolve(const Target& t, int ss, const glm::vec3& background, int w, int h
 
 }  // namespace
 
+void set_pixel(Image& image, int x, int y, const glm::vec3& c) {
+  if (x < 0 || y < 0 || x >= image.width || y >= image.height) return;
+  const std::size_t o = (std::size_t(y) * image.width + x) * 3;
+  image.rgb[o] = to_srgb8(c.r), image.rgb[o + 1] = to_srgb8(c.g), image.rgb[o + 2] = to_srgb8(c.b);
+}
+
 Image render_preview(const std::vector<PreviewMesh>& meshes, const RenderOptions& o) {
   int ss = std::max(1, o.supersample);
   int W = o.width * ss, H = o.height * ss;

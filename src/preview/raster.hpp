@@ -55,6 +55,10 @@ struct RenderOptions {
 /// \pre every triangle index is in range, triangle_colors.size() == triangles.size().
 Image render_preview(const std::vector<PreviewMesh>& meshes, const RenderOptions& options = {});
 
+/// Writes the linear colour `c` (components clamped to [0, 1]) at pixel (x, y), sRGB-encoded as
+/// render_preview writes every pixel; nothing outside the image.
+void set_pixel(Image& image, int x, int y, const glm::vec3& c);
+
 /// Lays images out left to right, top to bottom, `columns` per row (a contact sheet).
 /// \pre all images have the same size.
 Image contact_sheet(const std::vector<Image>& images, int columns);

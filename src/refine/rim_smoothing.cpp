@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "geom/ccd.hpp"
 #include "refine/collisions.hpp"
 #include "refine/containment.hpp"
 #include "refine/step_guard.hpp"
@@ -115,18 +116,6 @@ void hold_bad_faces(FractureSurface& s, const ExteriorSurface& b, const std::vec
   for (const std::uint32_t v : hold) x1[v] = x0[v];
 }
 
-// The distance between segments pq and uv: their closest points, each clamped to its segment.
-double segment_gap(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& u, const glm::dvec3& v) {
-  const glm::dvec3 d1 = q - p, d2 = v - u, r = p - u;
-  const double a = glm::dot(d1, d1), e = glm::dot(d2, d2), f = glm::dot(d2, r), c = glm::dot(d1, r), b = glm::dot(d1, d2);
-  const double denom = a * e - b * b;
-  double s = denom > 1e-300 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-  double t = e > 0.0 ? (b * s + f) / e : 0.0;
-  if (t < 0.0) t = 0.0, s = a > 0.0 ? std::clamp(-c / a, 0.0, 1.0) : 0.0;
-  else if (t > 1.0) t = 1.0, s = a > 0.0 ? std::clamp((b - c) / a, 0.0, 1.0) : 0.0;
-  return glm::distance(p + s * d1, u + t * d2);
-}
-
 double angle_at(const glm::dvec3& v, const glm::dvec3& a, const glm::dvec3& b) {
   const glm::dvec3 x = a - v, y = b - v;
   const double len = glm::length(x) * glm::length(y);
@@ -158,8 +147,8 @@ void hold_rims_coming_together(const FractureSurface& s, const std::vector<glm::
       if (e.a == f.a || e.a == f.b || e.b == f.a || e.b == f.b) continue;
       if (!moved(e.a) && !moved(e.b) && !moved(f.a) && !moved(f.b)) continue;
       const double limit = 0.25 * std::min(glm::distance(point(x1, e.a), point(x1, e.b)), glm::distance(point(x1, f.a), point(x1, f.b)));
-      const double gap1 = segment_gap(point(x1, e.a), point(x1, e.b), point(x1, f.a), point(x1, f.b));
-      if (gap1 >= limit || gap1 >= segment_gap(point(x0, e.a), point(x0, e.b), point(x0, f.a), point(x0, f.b))) continue;
+      const double gap1 = segment_distance(point(x1, e.a), point(x1, e.b), point(x1, f.a), point(x1, f.b));
+      if (gap1 >= limit || gap1 >= segment_distance(point(x0, e.a), point(x0, e.b), point(x0, f.a), point(x0, f.b))) continue;
       for (const std::uint32_t v : {e.a, e.b, f.a, f.b})
         if (moved(v)) hold.push_back(v);
     }
