@@ -321,6 +321,7 @@ RefineResult Refiner::run(const RefineProgress& progress) {
   embed_rim();
   collar_rim(s_, tree_, mesh(), rim_);
   locate_new_rim_vertices();
+  refuse_crossing_rim();
   last_move_.assign(s_.positions.size(), glm::vec3(0.0f));
   evaluate();
   result.initial_energy = energy();

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <map>
 
-#include "geom/predicates.hpp"
 #include "refine/exterior_contact.hpp"
 #include "refine/refiner.hpp"
 #include "util/error.hpp"
@@ -169,26 +168,34 @@ std::vector<std::uint32_t> Refiner::rim_segments_crossing(const rim::RimOnB& rim
     if (s_.edge_special[k] != kEdgeBoundary) continue;
     const glm::uvec2 ab = s_.edges[k];
     if (ab.x >= rim.on_b.size() || ab.y >= rim.on_b.size() || !rim.on_b[ab.x] || !rim.on_b[ab.y]) continue;
-    const std::uint32_t f = rim::common_face(m, rim.at[ab.x], rim.at[ab.y]);
-    if (f == rim::kNone || (rim::location_sides(m, rim.at[ab.x], f) & rim::location_sides(m, rim.at[ab.y], f)) != 0u) continue;
-    in_face[f].push_back(ab);
+    const std::uint32_t f = rim::segment_face(m, rim.at[ab.x], rim.at[ab.y]);
+    if (f != rim::kNone) in_face[f].push_back(ab);
   }
   std::vector<std::uint32_t> out;
-  for (const auto& entry : in_face) {
-    const std::uint32_t f = entry.first;  // not a structured binding: clang before 16 cannot capture one in a lambda
-    const std::vector<glm::uvec2>& edges = entry.second;
-    if (edges.size() < 2) continue;
-    auto uv = [&](std::uint32_t v) { return rim::location_uv(m, rim.at[v], f); };
+  for (const auto& [f, edges] : in_face)
     for (std::size_t i = 0; i < edges.size(); ++i)
       for (std::size_t j = i + 1; j < edges.size(); ++j) {
         const glm::uvec2 e = edges[i], g = edges[j];
         if (e.x == g.x || e.x == g.y || e.y == g.x || e.y == g.y) continue;
-        const glm::dvec2 a = uv(e.x), b = uv(e.y), c = uv(g.x), d = uv(g.y);
-        if (orient2d(a, b, c) * orient2d(a, b, d) < 0 && orient2d(c, d, a) * orient2d(c, d, b) < 0)
+        if (rim::segments_cross_in_face(m, f, rim.at[e.x], rim.at[e.y], rim.at[g.x], rim.at[g.y]))
           out.insert(out.end(), {e.x, e.y, g.x, g.y});
       }
-  }
   return out;
+}
+
+// The flow never makes two rim edges cross (hold_rim_degeneracies), so a crossing the set-up's
+// embedding left would only stop the pieces stage after the whole refinement, with an internal
+// error: it is reported here, before the flow, naming where.
+void Refiner::refuse_crossing_rim() const {
+  const std::vector<std::uint32_t> crossing = rim_segments_crossing(rim_);
+  if (crossing.empty()) return;
+  const std::uint32_t a = crossing[0], b = crossing[1], c = crossing[2], d = crossing[3];
+  const std::uint32_t f = rim::segment_face(mesh(), rim_.at[a], rim_.at[b]);
+  throw RunError("the fracture surface's rim cannot be laid on the exterior: its edges " + std::to_string(a) + "-" +
+                 std::to_string(b) + " and " + std::to_string(c) + "-" + std::to_string(d) + " cross inside exterior triangle " +
+                 std::to_string(f) + " near " + rim::format_point(rim_.at[a].point) +
+                 ", where two sheets meet the exterior closer together than its triangles are wide (a known limitation; "
+                 "README, \"Some cuts fail on the default lattice\")");
 }
 
 // hold_coincident_rim, then each moved vertex of a rim edge that runs along a B edge past another

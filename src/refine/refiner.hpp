@@ -65,6 +65,7 @@ class Refiner {
   void snap_slid_rim(std::vector<glm::vec4>& x) const;
   std::vector<std::uint32_t> rim_runs_past_rim_points(const rim::RimOnB& rim) const;
   std::vector<std::uint32_t> rim_segments_crossing(const rim::RimOnB& rim) const;
+  void refuse_crossing_rim() const;
   std::size_t hold_rim_degeneracies(const std::vector<glm::vec4>& x0, std::vector<glm::vec4>& x1) const;
   void locate_new_rim_vertices();
   std::vector<std::uint32_t> flagged_faces(const std::vector<glm::vec4>& x, const std::vector<float>& clearance) const;

@@ -297,6 +297,19 @@ std::uint32_t common_face(const ExteriorMesh& m, const Location& a, const Locati
   return kNone;
 }
 
+std::uint32_t segment_face(const ExteriorMesh& m, const Location& a, const Location& b) {
+  const std::uint32_t f = common_face(m, a, b);
+  if (f == kNone || (location_sides(m, a, f) & location_sides(m, b, f)) != 0u) return kNone;
+  return f;
+}
+
+bool segments_cross_in_face(const ExteriorMesh& m, std::uint32_t f, const Location& a, const Location& b,
+                            const Location& c, const Location& d) {
+  const glm::dvec2 pa = location_uv(m, a, f), pb = location_uv(m, b, f), pc = location_uv(m, c, f),
+                   pd = location_uv(m, d, f);
+  return orient2d(pa, pb, pc) * orient2d(pa, pb, pd) < 0 && orient2d(pc, pd, pa) * orient2d(pc, pd, pb) < 0;
+}
+
 Location location_between(const ExteriorMesh& m, const Location& a, const Location& b, double t) {
   const std::uint32_t f = common_face(m, a, b);
   glm::dvec3 w = (1.0 - t) * location_weights(m, a, f) + t * location_weights(m, b, f);

@@ -85,6 +85,19 @@ glm::dvec2 side_uv(int k, bool forward, double t);
 /// \pre location_in_face(m, loc, f).
 glm::dvec2 location_uv(const ExteriorMesh& m, const Location& loc, std::uint32_t f);
 
+/// The triangle of B that a rim segment between locations a and b runs inside: their common face
+/// (common_face), or kNone when they share none or the segment runs along a side of it (both
+/// ends on that side: the pieces stage orders such segments among the points on their B edge).
+std::uint32_t segment_face(const ExteriorMesh& m, const Location& a, const Location& b);
+
+/// Whether segments a-b and c-d, inside triangle f of B, cross at a point inside both: each
+/// pair's ends strictly on either side of the other's line (exact orient2d in f's barycentric
+/// plane). Segments that share an end or only touch do not cross; the pieces stage cannot cut f
+/// along two that do ("two traced paths cross").
+/// \pre every location lies in f (location_in_face).
+bool segments_cross_in_face(const ExteriorMesh& m, std::uint32_t f, const Location& a, const Location& b,
+                            const Location& c, const Location& d);
+
 /// One segment of a trace: from the previous location to `to`, inside (the closure of) `face`.
 struct TraceStep {
   Location to;
