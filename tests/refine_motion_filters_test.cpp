@@ -42,4 +42,32 @@ TEST(MotionFilters, AJunctionVertexMovesAcrossItsCurveAndFreelyWhereTheCurveTurn
   EXPECT_NEAR(moves(f[next], {0.0, 0.0, 1.0}), 1.0, 1e-12) << "its neighbour, across its curve";
 }
 
+// A junction curve with an exact right-angle corner, as a tet lattice's junctions have: the
+// curve's vertex at y = 1 pulled out to x = 1, its two edges leave it at exactly 90 degrees (dot
+// product 0). It must move along its curvature (towards the curve's inside, -x, and across, z)
+// and not along the curve (y). Before, the tangent was taken from the edges as stored, from the
+// lower vertex id: where the corner's id was the lowest or highest of the three, both edges
+// pointed the same way from it, their sum (the curvature's direction) was taken for the tangent,
+// and the corner was held there: it could not round off, and the flow turned it into a hairpin
+// (the Jell-O demo's junction corners). So the corner is given each id in turn.
+TEST(MotionFilters, AJunctionCornerAtARightAngleRoundsOffAndDoesNotSlideAlongItsCurve) {
+  const ExteriorSurface b = make_exterior(test::unit_cube(), "cube");
+  const FractureSurface t = example_t_junction(3);
+  const std::uint32_t original = test::vertex_at(t, {0.0f, 1.0f, 0.0f});
+  for (std::uint32_t id = 0; id < t.positions.size(); ++id) {
+    FractureSurface s = t;  // the corner renumbered as `id`: the two vertices swap ids
+    auto swapped = [&](std::uint32_t v) { return v == original ? id : (v == id ? original : v); };
+    for (glm::uvec4& f : s.faces) f = glm::uvec4(swapped(f.x), swapped(f.y), swapped(f.z), f.w);
+    std::swap(s.positions[original], s.positions[id]);
+    std::swap(s.vertex_flags[original], s.vertex_flags[id]);
+    rebuild_adjacency(s);
+    ASSERT_EQ(validate(s), "");
+    s.positions[id] = glm::vec4(1.0f, 1.0f, 0.0f, 1.0f);
+    const std::vector<glm::dmat3> f = motion_filters(s, b);
+    EXPECT_NEAR(moves(f[id], {0.0, 1.0, 0.0}), 0.0, 1e-12) << "along the curve, corner id " << id;
+    EXPECT_NEAR(moves(f[id], {1.0, 0.0, 0.0}), 1.0, 1e-12) << "along its curvature, corner id " << id;
+    EXPECT_NEAR(moves(f[id], {0.0, 0.0, 1.0}), 1.0, 1e-12) << "across, corner id " << id;
+  }
+}
+
 }  // namespace fracref

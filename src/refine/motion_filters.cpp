@@ -7,10 +7,15 @@ namespace {
 
 // The unit tangent of the curve of `kind` edges (boundary or junction) through each vertex with
 // exactly two of them; zero elsewhere, and with `hairpins_free` also where the curve turns back
-// at the vertex (its two edges leave it less than 90 degrees apart).
+// at the vertex (its two edges leave it less than 90 degrees apart). From the edges' directions
+// away from the vertex, u1 and u2: the curve runs along u1 − u2 (their sum is its curvature's
+// direction). Taken from the edges as stored instead, both could point away at a right angle (a
+// lattice's junction corner, whose dot product is exactly 0), and the sum was taken for the
+// tangent: the corner was then held along its curvature, could not round off, and turned into a
+// hairpin as its neighbours moved on.
 std::vector<glm::dvec3> curve_tangents(const FractureSurface& s, EdgeKind kind, bool hairpins_free) {
   std::vector<glm::dvec3> first(s.positions.size(), glm::dvec3(0.0)), tangent(s.positions.size(), glm::dvec3(0.0));
-  std::vector<std::uint8_t> count(s.positions.size(), 0), first_out(s.positions.size(), 0);
+  std::vector<std::uint8_t> count(s.positions.size(), 0);
   for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
     if (s.edge_special[e] != kind) continue;
     const glm::uvec2 ab = s.edges[e];
@@ -19,13 +24,12 @@ std::vector<glm::dvec3> curve_tangents(const FractureSurface& s, EdgeKind kind, 
     if (len == 0.0) continue;
     dir /= len;
     for (std::uint32_t v : {ab.x, ab.y}) {
+      const glm::dvec3 away = v == ab.x ? dir : -dir;
       if (count[v] < 255 && count[v]++ == 0) {
-        first[v] = dir, first_out[v] = v == ab.x;
+        first[v] = away;
       } else if (count[v] == 2) {
-        tangent[v] = glm::dot(first[v], dir) >= 0.0 ? first[v] + dir : first[v] - dir;
-        // The edges' directions away from v: dir leaves v from ab.x, first[v] from its own start.
-        const double out = glm::dot(first_out[v] ? first[v] : -first[v], v == ab.x ? dir : -dir);
-        if (hairpins_free && out > 0.0) tangent[v] = glm::dvec3(0.0);
+        tangent[v] = first[v] - away;
+        if (hairpins_free && glm::dot(first[v], away) > 0.0) tangent[v] = glm::dvec3(0.0);
       }
     }
   }
