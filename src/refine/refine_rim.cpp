@@ -183,9 +183,10 @@ std::vector<std::uint32_t> Refiner::rim_segments_crossing(const rim::RimOnB& rim
   return out;
 }
 
-// The flow never makes two rim edges cross (hold_rim_degeneracies), so a crossing the set-up's
-// embedding left would only stop the pieces stage after the whole refinement, with an internal
-// error: it is reported here, before the flow, naming where.
+// The flow makes no two rim edges cross (the rim stays where it is, or with rim_motion
+// hold_rim_degeneracies holds the slides that would), so a crossing the set-up's embedding left
+// would only stop the pieces stage after the whole refinement, with an internal error: it is
+// reported here, before the flow, naming where.
 void Refiner::refuse_crossing_rim() const {
   const std::vector<std::uint32_t> crossing = rim_segments_crossing(rim_);
   if (crossing.empty()) return;
