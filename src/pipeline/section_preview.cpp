@@ -29,6 +29,21 @@ double total_length(const std::vector<Segment>& segments) {
   return sum;
 }
 
+// Of the 15 axis-aligned planes (35% to 65% of the box along each axis), the one where the soup's
+// section is longest; the first on ties, nearest the middle.
+SectionPlane longest_section(const Soup& soup, const glm::dvec3& lo, const glm::dvec3& hi) {
+  static constexpr double kFractions[] = {0.5, 0.425, 0.575, 0.35, 0.65};  // nearest the middle first
+  SectionPlane best{0, 0.5 * (lo.x + hi.x)};
+  double longest = -1.0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (const double f : kFractions) {
+      const SectionPlane plane{axis, lo[axis] + f * (hi[axis] - lo[axis])};
+      const double length = total_length(soup.section(plane));
+      if (length > longest) longest = length, best = plane;
+    }
+  return best;
+}
+
 // The picture's frame: the plane's other two axes (u right, v up) fitted to the pixels.
 struct Frame {
   int u = 1, v = 2, width = 0, height = 0;
@@ -137,31 +152,22 @@ std::vector<Segment> section_segments(const std::vector<glm::dvec3>& positions,
 }
 
 SectionPlane best_section(const FractureSurface& s, const glm::dvec3& lo, const glm::dvec3& hi) {
-  static constexpr double kFractions[] = {0.5, 0.425, 0.575, 0.35, 0.65};  // nearest the middle first
-  const Soup soup(s);
-  SectionPlane best{0, 0.5 * (lo.x + hi.x)};
-  double longest = -1.0;
-  for (int axis = 0; axis < 3; ++axis)
-    for (const double f : kFractions) {
-      const SectionPlane plane{axis, lo[axis] + f * (hi[axis] - lo[axis])};
-      const double length = total_length(soup.section(plane));
-      if (length > longest) longest = length, best = plane;
-    }
-  return best;
+  return longest_section(Soup(s), lo, hi);
 }
 
 Image preview_section(const Grid3& zeta, double weak_threshold, const MeshSoup& exterior, const FractureSurface& coarse,
                       const FractureSurface& refined, int width, int height) {
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   for (const glm::dvec3& p : exterior.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  const SectionPlane plane = best_section(refined, lo, hi);
+  const Soup refined_soup(refined);  // converted once: the plane's choice and the green line
+  const SectionPlane plane = longest_section(refined_soup, lo, hi);
   const Frame f = fit_frame(plane, lo, hi, width, height);
   Image img{width, height, std::vector<std::uint8_t>(std::size_t(width) * height * 3, 0)};
   const std::vector<Segment> outline = section_segments(exterior.positions, exterior.triangles, plane);
   paint_field(img, f, plane, zeta, weak_threshold, inside_mask(outline, f));
   draw_segments(img, f, outline, glm::vec3(0.35f), 0, false);
   draw_segments(img, f, Soup(coarse).section(plane), glm::vec3(0.0f), 1, true);
-  draw_segments(img, f, Soup(refined).section(plane), glm::vec3(0.15f, 0.95f, 0.25f), 1, false);
+  draw_segments(img, f, refined_soup.section(plane), glm::vec3(0.15f, 0.95f, 0.25f), 1, false);
   return img;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "geom/angles.hpp"
 #include "geom/ccd.hpp"
 #include "refine/collisions.hpp"
 #include "refine/containment.hpp"
@@ -116,12 +117,6 @@ void hold_bad_faces(FractureSurface& s, const ExteriorSurface& b, const std::vec
   for (const std::uint32_t v : hold) x1[v] = x0[v];
 }
 
-double angle_at(const glm::dvec3& v, const glm::dvec3& a, const glm::dvec3& b) {
-  const glm::dvec3 x = a - v, y = b - v;
-  const double len = glm::length(x) * glm::length(y);
-  return len > 0.0 ? std::acos(std::clamp(glm::dot(x, y) / len, -1.0, 1.0)) : 0.0;
-}
-
 struct RimEdge {
   std::uint32_t a = 0, b = 0;
   double lo_x = 0.0, hi_x = 0.0;
@@ -166,8 +161,8 @@ void hold_rims_closing_at_junctions(const std::vector<std::vector<std::uint32_t>
       for (std::size_t k = i + 1; k < nb[v].size(); ++k) {
         const std::uint32_t a = nb[v][i], b = nb[v][k];
         if (x1[v] == x0[v] && x1[a] == x0[a] && x1[b] == x0[b]) continue;
-        const double now = angle_at(point(x1, v), point(x1, a), point(x1, b));
-        if (now >= limit || now >= angle_at(point(x0, v), point(x0, a), point(x0, b))) continue;
+        const double now = corner_angle(point(x1, v), point(x1, a), point(x1, b));
+        if (now >= limit || now >= corner_angle(point(x0, v), point(x0, a), point(x0, b))) continue;
         for (const std::uint32_t w : {v, a, b})
           if (x1[w] != x0[w]) hold.push_back(w);
       }

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <set>
 
+#include "geom/angles.hpp"
 #include "geom/predicates.hpp"
 #include "rim/cut_triangulation.hpp"
 #include "rim/exterior_mesh.hpp"
@@ -21,11 +22,6 @@ using Edge = std::pair<std::uint32_t, std::uint32_t>;
 using Tri = std::array<std::uint32_t, 3>;
 
 Edge undirected(std::uint32_t a, std::uint32_t b) { return a < b ? Edge{a, b} : Edge{b, a}; }
-
-double angle_at(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-  const glm::dvec3 u = b - a, v = c - a;
-  return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
-}
 
 class Triangulation {
  public:
@@ -187,7 +183,7 @@ class Triangulation {
         const std::uint32_t t1 = tri_of(u, v), t2 = tri_of(v, u);
         if (t1 == kNone || t2 == kNone) continue;
         const std::uint32_t x = third(t1, u, v), y = third(t2, u, v);
-        const double sum = angle_at(in_.xyz[x], in_.xyz[u], in_.xyz[v]) + angle_at(in_.xyz[y], in_.xyz[u], in_.xyz[v]);
+        const double sum = corner_angle(in_.xyz[x], in_.xyz[u], in_.xyz[v]) + corner_angle(in_.xyz[y], in_.xyz[u], in_.xyz[v]);
         if (sum <= std::numbers::pi + 1e-12 || orient(u, y, x) <= 0 || orient(y, v, x) <= 0) continue;
         flip(t1, t2, u, v, x, y);
         changed = true;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "geom/intersect.hpp"
+#include "geom/angles.hpp"
 #include "geom/predicates.hpp"
 #include "rim/exterior_mesh.hpp"
 #include "util/error.hpp"
@@ -92,11 +93,6 @@ glm::dvec2 diagonal_from_y(double y) {
 glm::dvec2 diagonal_from_x(double x) {
   const glm::dvec2 p = diagonal_from_y(x);
   return {p.y, p.x};
-}
-
-double corner_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-  const glm::dvec3 u = b - a, v = c - a;
-  return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
 }
 
 }  // namespace
